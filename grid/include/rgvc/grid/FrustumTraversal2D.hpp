@@ -1,0 +1,216 @@
+// Front-to-back traversal of the 2D view region in chess-metric layers (seed 004 §4.2), with occluder
+// extension (§4.3), occlusion rasterization into H (§4.4) and early termination.
+//
+// Per layer k (the ring of voxels at chess distance k from the camera's voxel c):
+//   1. H for ring k: every occlusion polygon found in earlier layers is rasterized onto the ring's four
+//      sides (an exact integer span per side, see OcclusionShadow2D). Rasterizing the polygons one ring
+//      at a time, as the traversal reaches it, costs what the traversal visits, not the polygons' full
+//      extent up to the grid border, and gives the same H on every visited voxel.
+//   2. The ring's voxels that touch the closed view wedge form one contiguous arc (the wedge is a union
+//      of rays from a point inside c, each ray crosses the ring's annulus in one segment, and the union
+//      of these segments is connected). The arc is walked from the line-of-sight seed in both directions
+//      (the paper's direction rules, see ChessRing2D.hpp) until a voxel that misses the wedge, or until
+//      the walks have covered all 8k voxels (wide views).
+//   3. A visited voxel not in H reports its ids (callback) and, if opaque and not yet part of an
+//      extended occluder, starts an occluder extension whose runs become occlusion polygons.
+//   4. Early termination: if every in-grid voxel of the arc is opaque or occluded, every ray to anything
+//      farther crosses the ring's blocked voxels (DESIGN.md invariant), so the traversal ends. It also ends
+//      when the arc has no in-grid voxel: the grid is convex, so nothing farther is inside it either.
+//
+// Requires the camera inside the closed grid box (the culler takes a fallback otherwise).
+#pragma once
+
+#include "rgvc/grid/ChessRing2D.hpp"
+#include "rgvc/grid/GridGeometry.hpp"
+#include "rgvc/grid/OccluderExtension2D.hpp"
+#include "rgvc/grid/OcclusionShadow2D.hpp"
+#include "rgvc/grid/ViewWedge.hpp"
+#include "rgvc/grid/VoxelStorage.hpp"
+
+#include <cmath>
+#include <vector>
+
+namespace rgvc {
+
+struct TraversalOptions2D {
+    bool occlusion = true;       ///< false: view-frustum culling only
+    bool extension = true;       ///< §4.3 extension through opaque *and occluded* voxels, with L arms
+    std::int32_t maxRun = 1 << 14; ///< [Voxels] cap on one extension walk
+};
+
+struct TraversalStats2D {
+    std::uint32_t layers = 0;
+    std::uint64_t voxelsVisited = 0;
+    std::uint64_t voxelsOccluded = 0;
+    std::uint64_t occludersExtended = 0;
+    std::uint64_t occluderVoxels = 0;
+    std::uint64_t shadows = 0;
+    std::uint64_t voxelsMarkedOccluded = 0;
+    bool earlyTermination = false;
+    bool opaqueMet = false;
+};
+
+template <VoxelStorage Storage> class FrustumTraversal2D {
+public:
+    /// Runs one frame. `stamp` identifies this frame in the storage's stamped matrices (H, U, V) and must
+    /// differ from every earlier frame's stamp since the last resetStamps().
+    /// @param onVoxel  void(VoxelKey, IVec2): called once for every visited in-grid voxel not in H.
+    template <class OnVoxel>
+    TraversalStats2D run(const GridGeometry2& grid, Storage& storage, const ViewWedge& wedge, std::uint32_t stamp,
+                         const TraversalOptions2D& options, OnVoxel&& onVoxel) {
+        TraversalStats2D stats;
+        m_active.clear();
+        m_pending.clear();
+        const IVec2 res = grid.resolution();
+        const IVec2 c = glm::clamp(GridGeometry2::voxelOfLocal(wedge.apex()), IVec2(0), res - 1);
+        const std::int32_t kMax = std::max(std::max(c.x, res.x - 1 - c.x), std::max(c.y, res.y - 1 - c.y));
+
+        auto isBlocker = [&](const IVec2& v) {
+            if (!grid.contains(v)) return false;
+            const VoxelKey key = grid.linearIndex(v);
+            return storage.opaque(key) || (options.extension && storage.occluded(key, stamp));
+        };
+
+        // Layer 0: the camera's own voxel. It is never an occluder (the camera may sit anywhere in it) and
+        // never terminates the traversal.
+        {
+            const VoxelKey key = grid.linearIndex(c);
+            storage.setVisited(key, stamp);
+            ++stats.voxelsVisited;
+            onVoxel(key, c);
+            stats.layers = 1;
+        }
+
+        for (std::int32_t k = 1; k <= kMax; ++k) {
+            // Every point of ring k is at least k - 1 voxels (chess) from any point of the camera voxel.
+            if (!std::isinf(wedge.far()) && double(k - 1) > wedge.far()) break;
+            if (options.occlusion) stampRing(grid, storage, c, k, stamp, stats);
+
+            std::int64_t p0;
+            if (!findSeed(wedge, c, k, p0)) break;
+            const std::int64_t perimeter = 8 * std::int64_t(k);
+            std::int64_t walked = 0;
+            std::uint64_t inGrid = 0, open = 0;
+            auto process = [&](std::int64_t p) {
+                const IVec2 v = c + ringOffset(k, p);
+                if (!grid.contains(v)) return;
+                ++inGrid;
+                const VoxelKey key = grid.linearIndex(v);
+                storage.setVisited(key, stamp);
+                ++stats.voxelsVisited;
+                if (options.occlusion && storage.occluded(key, stamp)) {
+                    ++stats.voxelsOccluded;
+                    return;
+                }
+                onVoxel(key, v);
+                if (!storage.opaque(key)) {
+                    ++open;
+                    return;
+                }
+                stats.opaqueMet = true;
+                if (options.occlusion && !storage.used(key, stamp)) extend(grid, storage, c, v, stamp, options, isBlocker, stats);
+            };
+            // Counter-clockwise from the seed, then clockwise from just before it.
+            for (std::int64_t p = p0; walked < perimeter && wedge.touchesVoxel(c + ringOffset(k, p)); ++p, ++walked)
+                process(p);
+            for (std::int64_t p = p0 - 1; walked < perimeter && wedge.touchesVoxel(c + ringOffset(k, p)); --p, ++walked)
+                process(p);
+
+            stats.layers = std::uint32_t(k + 1);
+            m_active.insert(m_active.end(), m_pending.begin(), m_pending.end());
+            m_pending.clear();
+            if (inGrid == 0) break;
+            if (options.occlusion && open == 0) {
+                stats.earlyTermination = true;
+                break;
+            }
+        }
+        return stats;
+    }
+
+private:
+    /// Seed of ring k on the line of sight; if rounding put it just outside the wedge (or the far cut
+    /// removed it), any voxel of the ring that touches the wedge will do. False: no voxel of ring k
+    /// touches the view region, and then none farther does either.
+    bool findSeed(const ViewWedge& wedge, const IVec2& c, std::int32_t k, std::int64_t& p) const {
+        const IVec2 o = lineOfSightSeed(wedge.apex(), wedge.direction(), c, k);
+        p = ringIndex(o, k);
+        if (wedge.touchesVoxel(c + o)) return true;
+        for (std::int64_t q = 0, n = 8 * std::int64_t(k); q < n; ++q) {
+            if (wedge.touchesVoxel(c + ringOffset(k, q))) {
+                p = q;
+                return true;
+            }
+        }
+        return false;
+    }
+
+    /// Rasterizes every active occlusion polygon onto ring k's four sides.
+    void stampRing(const GridGeometry2& grid, Storage& storage, const IVec2& c, std::int32_t k, std::uint32_t stamp,
+                   TraversalStats2D& stats) const {
+        if (m_active.empty()) return;
+        const IVec2 res = grid.resolution();
+        // Side s starts at its first corner and steps along `dir` for 2k voxels (ChessRing2D numbering).
+        const IVec2 starts[4] = {c + IVec2{k, -k}, c + IVec2{k, k}, c + IVec2{-k, k}, c + IVec2{-k, -k}};
+        const IVec2 dirs[4] = {{0, 1}, {-1, 0}, {0, -1}, {1, 0}};
+        for (int s = 0; s < 4; ++s) {
+            const IVec2 o = starts[s], step = dirs[s];
+            // Clip t in [0, 2k) to the grid.
+            std::int64_t tLo = 0, tHi = 2 * std::int64_t(k) - 1;
+            bool inside = true;
+            for (int a = 0; a < 2 && inside; ++a) {
+                if (step[a] == 0) {
+                    inside = o[a] >= 0 && o[a] < res[a];
+                } else if (step[a] > 0) {
+                    tLo = std::max<std::int64_t>(tLo, -std::int64_t(o[a]));
+                    tHi = std::min<std::int64_t>(tHi, std::int64_t(res[a]) - 1 - o[a]);
+                } else {
+                    tLo = std::max<std::int64_t>(tLo, std::int64_t(o[a]) - (res[a] - 1));
+                    tHi = std::min<std::int64_t>(tHi, std::int64_t(o[a]));
+                }
+            }
+            if (!inside || tLo > tHi) continue;
+            for (const OcclusionShadow2D& shadow : m_active) {
+                std::int64_t lo, hi;
+                shadow.spanOnLine(o, step, tLo, tHi, lo, hi);
+                for (std::int64_t t = lo; t <= hi; ++t) {
+                    const IVec2 v = o + step * std::int32_t(t);
+                    const VoxelKey key = grid.linearIndex(v);
+                    if (!storage.occluded(key, stamp)) {
+                        storage.setOccluded(key, stamp);
+                        ++stats.voxelsMarkedOccluded;
+                    }
+                }
+            }
+        }
+    }
+
+    template <class IsBlocker>
+    void extend(const GridGeometry2& grid, Storage& storage, const IVec2& c, const IVec2& v, std::uint32_t stamp,
+                const TraversalOptions2D& options, IsBlocker& isBlocker, TraversalStats2D& stats) {
+        ++stats.occludersExtended;
+        storage.setUsed(grid.linearIndex(v), stamp);
+        auto opaqueOnly = [&](const IVec2& u) { return grid.contains(u) && storage.opaque(grid.linearIndex(u)); };
+        VoxelRun2D runs[3];
+        const int n = options.extension ? extendOccluder2D(c, v, isBlocker, true, options.maxRun, runs)
+                                        : extendOccluder2D(c, v, opaqueOnly, false, options.maxRun, runs);
+        for (int i = 0; i < n; ++i) {
+            const VoxelRun2D& run = runs[i];
+            const IVec2 step = glm::sign(run.b - run.a);
+            for (IVec2 u = run.a;; u += step) {
+                storage.setUsed(grid.linearIndex(u), stamp);
+                ++stats.occluderVoxels;
+                if (u == run.b) break;
+            }
+            OcclusionShadow2D shadow(c, run.a, run.b);
+            if (shadow.valid()) {
+                m_pending.push_back(shadow);
+                ++stats.shadows;
+            }
+        }
+    }
+
+    std::vector<OcclusionShadow2D> m_active, m_pending; // reused across frames
+};
+
+} // namespace rgvc

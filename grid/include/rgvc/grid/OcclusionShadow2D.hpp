@@ -1,0 +1,120 @@
+// Occlusion polygons behind 2D occluders and their conservative rasterization into H (seed 004 §4.4).
+//
+// An occluder here is a straight, axis-aligned run of voxels A..B (inclusive), each opaque or occluded.
+// Following §4.4, the occlusion polygon takes its vertices at voxel *centres* and its apex at the centre
+// C of the camera's voxel, and voxels are sampled at their centres. With voxel indices as centre
+// coordinates all of this is integer arithmetic, so the test is exact: no rounding can err either way.
+//
+// A voxel q is marked occluded iff its centre lies *strictly* inside the region
+//     beyond the line AB (away from C)  and  strictly between the rays C->A and C->B.
+// Why this is hidden from every point of the camera's voxel (DESIGN.md, "H is from-region"):
+// take any camera point c = C + e1 and target point q' = q + e2 with e1, e2 in [-1/2, 1/2]^2. The centre
+// segment C->q crosses AB at x strictly between A and B at some parameter s. The real segment c->q' is at
+// x + e there, with e = (1-s) e1 + s e2 in [-1/2, 1/2]^2, i.e. inside the union of the run's closed
+// voxels (the run is axis-aligned, so that union is AB grown by the unit square). When |e| reaches the
+// union's boundary (e1, e2 both at the same face), the real segment is the centre segment shifted by
+// half a voxel across the run and so crosses into the union's interior next to x. Either way it meets
+// the interior of the occluder's voxels (or touches an occluded voxel, all of whose points are already
+// hidden). This is the exact shrink of the from-region umbra by the voxel support (|nx|+|ny|) d/2,
+// hence strict inequalities: centres on an edge count as not occluded.
+#pragma once
+
+#include "rgvc/grid/Math.hpp"
+
+#include <algorithm>
+#include <cstdint>
+
+namespace rgvc {
+
+__extension__ typedef __int128 Int128; // exact products of 2^31-range coordinates
+
+/// Strict half-plane a*x + b*y + c > 0 over integer voxel-centre coordinates.
+struct IntHalfPlane {
+    std::int64_t a = 0, b = 0;
+    Int128 c = 0;
+    Int128 eval(std::int64_t x, std::int64_t y) const { return Int128(a) * x + Int128(b) * y + c; }
+};
+
+class OcclusionShadow2D {
+public:
+    /// @param camera  camera voxel C; @param a, b  ends of an axis-aligned run of occluder voxels.
+    /// valid() is false when the run is a single voxel or C is on the run's line (no from-region shadow).
+    OcclusionShadow2D(const IVec2& camera, const IVec2& a, const IVec2& b) {
+        const IVec2 ca = a - camera, cb = b - camera;
+        const std::int64_t orient = cross2(ca, cb); // 2 * signed area of triangle C, A, B
+        m_valid = a != b && orient != 0;
+        if (!m_valid) return;
+        // Beyond AB: the side of line AB not containing C.
+        m_planes[0] = lineThrough(a, b);
+        if (m_planes[0].eval(camera.x, camera.y) > 0) flip(m_planes[0]);
+        // Strictly on B's side of ray C->A and on A's side of ray C->B.
+        m_planes[1] = lineThrough(camera, a);
+        if (m_planes[1].eval(b.x, b.y) < 0) flip(m_planes[1]);
+        m_planes[2] = lineThrough(camera, b);
+        if (m_planes[2].eval(a.x, a.y) < 0) flip(m_planes[2]);
+    }
+
+    bool valid() const { return m_valid; }
+
+    bool contains(const IVec2& q) const {
+        return m_valid && m_planes[0].eval(q.x, q.y) > 0 && m_planes[1].eval(q.x, q.y) > 0 &&
+               m_planes[2].eval(q.x, q.y) > 0;
+    }
+
+    /// Range [lo, hi] (empty if lo > hi) of t such that the voxel `origin + t * step` is strictly inside,
+    /// for t in [tMin, tMax]; `step` is a unit axis vector. Used to rasterize one ring side at a time.
+    void spanOnLine(const IVec2& origin, const IVec2& step, std::int64_t tMin, std::int64_t tMax, std::int64_t& lo,
+                    std::int64_t& hi) const {
+        lo = tMin;
+        hi = tMax;
+        if (!m_valid) {
+            lo = 1;
+            hi = 0;
+            return;
+        }
+        for (const IntHalfPlane& h : m_planes) {
+            // h(origin + t*step) = k*t + r > 0
+            const Int128 k = Int128(h.a) * step.x + Int128(h.b) * step.y;
+            const Int128 r = h.eval(origin.x, origin.y);
+            if (k == 0) {
+                if (r <= 0) {
+                    lo = 1;
+                    hi = 0;
+                    return;
+                }
+            } else if (k > 0) {
+                // t > -r/k  <=>  t >= floor(-r/k) + 1
+                lo = std::int64_t(std::max<Int128>(lo, std::min<Int128>(floorDiv(-r, k) + 1, Int128(hi) + 1)));
+            } else {
+                // t < -r/k = r/(-k)  <=>  t <= ceil(r/(-k)) - 1
+                hi = std::int64_t(std::min<Int128>(hi, std::max<Int128>(-floorDiv(-r, -k) - 1, Int128(lo) - 1)));
+            }
+            if (lo > hi) return;
+        }
+    }
+
+private:
+    static IntHalfPlane lineThrough(const IVec2& p, const IVec2& q) {
+        // Normal (-(q-p).y, (q-p).x); the line is zero at p.
+        IntHalfPlane h;
+        h.a = -(std::int64_t(q.y) - p.y);
+        h.b = std::int64_t(q.x) - p.x;
+        h.c = -(Int128(h.a) * p.x + Int128(h.b) * p.y);
+        return h;
+    }
+    static void flip(IntHalfPlane& h) {
+        h.a = -h.a;
+        h.b = -h.b;
+        h.c = -h.c;
+    }
+    static Int128 floorDiv(Int128 n, Int128 d) { // d > 0
+        Int128 q = n / d;
+        if ((n % d != 0) && (n < 0)) --q;
+        return q;
+    }
+
+    IntHalfPlane m_planes[3];
+    bool m_valid = false;
+};
+
+} // namespace rgvc

@@ -1,0 +1,146 @@
+// Object shapes: balls (circle in 2D, sphere in 3D), axis-aligned boxes and, in 2D, convex polygons.
+//
+// Shapes are closed sets. They are given in world units at the API boundary and converted once to
+// voxel units (`toLocal`) before rasterization. §5.1 of the paper reduces any other 3D shape to an
+// inner and an outer simplified model; a new shape joins by adding a variant alternative with its
+// `innerVoxels`/`touchedVoxels` rasterizers (see ConservativeRaster.hpp).
+#pragma once
+
+#include "rgvc/grid/Error.hpp"
+#include "rgvc/grid/GridGeometry.hpp"
+#include "rgvc/grid/Math.hpp"
+
+#include <algorithm>
+#include <string>
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+namespace rgvc {
+
+/// Circle (D = 2) or sphere (D = 3). [Units] world or voxel, as the context says. [Limit] radius > 0.
+template <int D> struct Ball {
+    Vec<D> center{0.0};
+    double radius = 0;
+};
+
+/// Axis-aligned box, closed. [Limit] min < max on every axis.
+template <int D> struct Box {
+    Vec<D> min{0.0};
+    Vec<D> max{0.0};
+};
+
+/// Convex polygon (2D only), closed. Points in either winding; stored counter-clockwise after
+/// validation. [Limit] >= 3 points, convex, non-zero area.
+struct ConvexPolygon {
+    std::vector<Vec2> points;
+};
+
+template <int D> struct ShapeTypes;
+template <> struct ShapeTypes<2> { using type = std::variant<Ball<2>, Box<2>, ConvexPolygon>; };
+template <> struct ShapeTypes<3> { using type = std::variant<Ball<3>, Box<3>>; };
+/// Any shape of a D-dimensional scene.
+template <int D> using Shape = typename ShapeTypes<D>::type;
+
+// ---------------------------------------------------------------------------------------------------
+// Free functions on shapes.
+
+template <int D> inline Box<D> boundsOf(const Ball<D>& b) { return {b.center - b.radius, b.center + b.radius}; }
+template <int D> inline Box<D> boundsOf(const Box<D>& b) { return b; }
+inline Box<2> boundsOf(const ConvexPolygon& p) {
+    Box<2> r{p.points.front(), p.points.front()};
+    for (const Vec2& q : p.points) {
+        r.min = glm::min(r.min, q);
+        r.max = glm::max(r.max, q);
+    }
+    return r;
+}
+template <int D> inline Box<D> boundsOf(const Shape<D>& s) {
+    return std::visit([](const auto& x) { return boundsOf(x); }, s);
+}
+
+template <int D> inline Ball<D> translated(const Ball<D>& b, const Vec<D>& t) { return {b.center + t, b.radius}; }
+template <int D> inline Box<D> translated(const Box<D>& b, const Vec<D>& t) { return {b.min + t, b.max + t}; }
+inline ConvexPolygon translated(const ConvexPolygon& p, const Vec2& t) {
+    ConvexPolygon r = p;
+    for (Vec2& q : r.points) q += t;
+    return r;
+}
+template <int D> inline Shape<D> translated(const Shape<D>& s, const Vec<D>& t) {
+    return std::visit([&](const auto& x) -> Shape<D> { return translated(x, t); }, s);
+}
+
+/// Converts a world-unit shape to voxel units of `grid`.
+template <int D> inline Shape<D> toLocal(const Shape<D>& s, const GridGeometry<D>& grid) {
+    return std::visit(
+        [&](const auto& x) -> Shape<D> {
+            using T = std::decay_t<decltype(x)>;
+            if constexpr (std::is_same_v<T, Ball<D>>) {
+                return Ball<D>{grid.toLocal(x.center), grid.toLocalLength(x.radius)};
+            } else if constexpr (std::is_same_v<T, Box<D>>) {
+                return Box<D>{grid.toLocal(x.min), grid.toLocal(x.max)};
+            } else {
+                ConvexPolygon r;
+                r.points.reserve(x.points.size());
+                for (const Vec2& q : x.points) r.points.push_back(grid.toLocal(q));
+                return r;
+            }
+        },
+        s);
+}
+
+/// Signed area of a polygon (positive when counter-clockwise).
+inline double signedArea(const std::vector<Vec2>& pts) {
+    double a = 0;
+    for (std::size_t i = 0, n = pts.size(); i < n; ++i) a += cross2(pts[i], pts[(i + 1) % n]);
+    return 0.5 * a;
+}
+
+/// Validates a shape given in world units and normalises it (polygons become counter-clockwise).
+/// @param field  prefix for the error message, e.g. "objects[3]".
+/// @throws InvalidInput naming the field: NaN/inf, radius <= 0, min >= max, < 3 points, non-convex, zero area.
+template <int D> inline void validateShape(Shape<D>& s, const std::string& field) {
+    std::visit(
+        [&](auto& x) {
+            using T = std::decay_t<decltype(x)>;
+            if constexpr (std::is_same_v<T, Ball<D>>) {
+                if (!allFinite<D>(x.center)) throw InvalidInput(field + ".center", "must be finite");
+                if (!std::isfinite(x.radius) || !(x.radius > 0))
+                    throw InvalidInput(field + ".radius", "must be finite and > 0, got " + std::to_string(x.radius));
+            } else if constexpr (std::is_same_v<T, Box<D>>) {
+                if (!allFinite<D>(x.min)) throw InvalidInput(field + ".min", "must be finite");
+                if (!allFinite<D>(x.max)) throw InvalidInput(field + ".max", "must be finite");
+                for (int i = 0; i < D; ++i)
+                    if (!(x.min[i] < x.max[i]))
+                        throw InvalidInput(field + ".max", "must exceed min on every axis");
+            } else {
+                const std::size_t n = x.points.size();
+                if (n < 3) throw InvalidInput(field + ".points", "a polygon needs at least 3 points");
+                for (const Vec2& q : x.points)
+                    if (!allFinite<2>(q)) throw InvalidInput(field + ".points", "must be finite");
+                double area = signedArea(x.points);
+                if (!(std::abs(area) > 0) || !std::isfinite(area))
+                    throw InvalidInput(field + ".points", "polygon has zero area");
+                if (area < 0) std::reverse(x.points.begin(), x.points.end());
+                for (std::size_t i = 0; i < n; ++i) {
+                    const Vec2& a = x.points[i];
+                    const Vec2& b = x.points[(i + 1) % n];
+                    const Vec2& c = x.points[(i + 2) % n];
+                    if (cross2(b - a, c - b) < 0) throw InvalidInput(field + ".points", "polygon is not convex");
+                }
+                // A convex polygon winds around once: the turning angles sum to 2*pi. A star-shaped
+                // self-intersecting "polygon" has all left turns too but winds more than once.
+                double turning = 0;
+                for (std::size_t i = 0; i < n; ++i) {
+                    Vec2 e0 = x.points[(i + 1) % n] - x.points[i];
+                    Vec2 e1 = x.points[(i + 2) % n] - x.points[(i + 1) % n];
+                    turning += std::atan2(cross2(e0, e1), glm::dot(e0, e1));
+                }
+                if (turning > 2 * 3.141592653589793 + 1e-6)
+                    throw InvalidInput(field + ".points", "polygon is self-intersecting");
+            }
+        },
+        s);
+}
+
+} // namespace rgvc

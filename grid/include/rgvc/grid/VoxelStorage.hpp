@@ -1,0 +1,122 @@
+// The storage interface of the grid matrices, and its dense implementation.
+//
+// The algorithms (traversal, occlusion, the culler) are templates over a type that models
+// `VoxelStorage`, so the per-voxel calls inline; a sparse OpenVDB backend implements the same concept
+// behind RGVC_WITH_OPENVDB without any OpenVDB type reaching a public header.
+//
+// Matrices (seed 004 §3):
+//   O  opaque      a count of objects whose inner voxels include this voxel (O = count > 0). Counting,
+//                  not a flag, makes removing one of two overlapping objects exact; static objects (Os)
+//                  are counted in the same way, once.
+//   H  occluded    a frame stamp: H(v) holds iff stamp(v) == current frame. Starting a frame clears H
+//                  in O(1); the stamps wrap after 2^32 - 1 frames, when one full clear is paid.
+//   I  ids         per-voxel singly linked lists of dense object slots, drawn from one node pool with a
+//                  free list. After warm-up no insertion allocates.
+//   U  used        a frame stamp marking voxels already part of an extended occluder this frame, so a
+//                  wall of n opaque voxels is extended once, not n times.
+//   V  visited     a frame stamp of the voxels the traversal visited (for stats and pictures).
+#pragma once
+
+#include "rgvc/grid/GridGeometry.hpp"
+
+#include <concepts>
+#include <cstdint>
+#include <vector>
+
+namespace rgvc {
+
+using VoxelKey = std::uint32_t;
+/// Dense object slot inside a culler (not the user's id).
+using ObjectSlot = std::uint32_t;
+inline constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+
+template <class S>
+concept VoxelStorage = requires(S s, const S cs, VoxelKey k, ObjectSlot o, std::uint32_t stamp) {
+    { cs.opaque(k) } -> std::convertible_to<bool>;
+    s.addOpaque(k, 1);
+    { cs.occluded(k, stamp) } -> std::convertible_to<bool>;
+    s.setOccluded(k, stamp);
+    { cs.used(k, stamp) } -> std::convertible_to<bool>;
+    s.setUsed(k, stamp);
+    { cs.visited(k, stamp) } -> std::convertible_to<bool>;
+    s.setVisited(k, stamp);
+    { cs.hasIds(k) } -> std::convertible_to<bool>;
+    s.addId(k, o);
+    s.removeId(k, o);
+    s.resetStamps();
+};
+
+/// Dense arrays over the whole grid: 20 bytes per voxel plus 8 bytes per (voxel, object) incidence.
+template <int D> class DenseStorage {
+public:
+    explicit DenseStorage(const GridGeometry<D>& grid)
+        : m_opaque(grid.voxelCount(), 0), m_occluded(grid.voxelCount(), 0), m_used(grid.voxelCount(), 0),
+          m_visited(grid.voxelCount(), 0), m_head(grid.voxelCount(), kNone) {}
+
+    bool opaque(VoxelKey k) const { return m_opaque[k] != 0; }
+    /// delta is +1 or -1; the count never goes below zero when calls are paired.
+    void addOpaque(VoxelKey k, std::int32_t delta) { m_opaque[k] = std::uint32_t(std::int64_t(m_opaque[k]) + delta); }
+
+    bool occluded(VoxelKey k, std::uint32_t stamp) const { return m_occluded[k] == stamp; }
+    void setOccluded(VoxelKey k, std::uint32_t stamp) { m_occluded[k] = stamp; }
+    bool used(VoxelKey k, std::uint32_t stamp) const { return m_used[k] == stamp; }
+    void setUsed(VoxelKey k, std::uint32_t stamp) { m_used[k] = stamp; }
+    bool visited(VoxelKey k, std::uint32_t stamp) const { return m_visited[k] == stamp; }
+    void setVisited(VoxelKey k, std::uint32_t stamp) { m_visited[k] = stamp; }
+
+    bool hasIds(VoxelKey k) const { return m_head[k] != kNone; }
+    template <class Fn> void forEachId(VoxelKey k, Fn&& fn) const {
+        for (std::uint32_t n = m_head[k]; n != kNone; n = m_nodes[n].next) fn(m_nodes[n].slot);
+    }
+    void addId(VoxelKey k, ObjectSlot o) {
+        std::uint32_t n;
+        if (m_free != kNone) {
+            n = m_free;
+            m_free = m_nodes[n].next;
+            m_nodes[n] = {o, m_head[k]};
+        } else {
+            n = std::uint32_t(m_nodes.size());
+            m_nodes.push_back({o, m_head[k]}); // amortised growth of one pool, not a per-voxel allocation
+        }
+        m_head[k] = n;
+    }
+    void removeId(VoxelKey k, ObjectSlot o) {
+        for (std::uint32_t* link = &m_head[k]; *link != kNone; link = &m_nodes[*link].next) {
+            if (m_nodes[*link].slot == o) {
+                std::uint32_t n = *link;
+                *link = m_nodes[n].next;
+                m_nodes[n].next = m_free;
+                m_free = n;
+                return;
+            }
+        }
+    }
+
+    /// Called when the frame stamp wraps around: every stamp back to "never".
+    void resetStamps() {
+        std::fill(m_occluded.begin(), m_occluded.end(), 0);
+        std::fill(m_used.begin(), m_used.end(), 0);
+        std::fill(m_visited.begin(), m_visited.end(), 0);
+    }
+
+    /// Incidences currently stored in I (for stats and consistency tests).
+    std::size_t idCount() const {
+        std::size_t freeCount = 0;
+        for (std::uint32_t n = m_free; n != kNone; n = m_nodes[n].next) ++freeCount;
+        return m_nodes.size() - freeCount;
+    }
+
+private:
+    struct Node {
+        ObjectSlot slot;
+        std::uint32_t next;
+    };
+    std::vector<std::uint32_t> m_opaque, m_occluded, m_used, m_visited, m_head;
+    std::vector<Node> m_nodes;
+    std::uint32_t m_free = kNone;
+};
+
+static_assert(VoxelStorage<DenseStorage<2>>);
+static_assert(VoxelStorage<DenseStorage<3>>);
+
+} // namespace rgvc
