@@ -83,6 +83,10 @@ template <> struct Culler<2>::Impl {
 };
 
 template <> Culler<2>::Culler(const GridGeometry2& grid, const CullerOptions& options) {
+    for (int a = 0; a < 2; ++a)
+        if (grid.resolution()[a] > kMaxShadowExtent)
+            throw InvalidInput("grid.resolution", "at most " + std::to_string(kMaxShadowExtent) +
+                                                      " voxels per axis in 2D, got " + std::to_string(grid.resolution()[a]));
     try {
         m_impl = std::make_unique<Impl>(grid, options);
     } catch (const std::bad_alloc&) {

@@ -39,15 +39,23 @@ bool ViewWedge::containsPoint(const Vec2& p) const {
     return !(s1 < -kConservativeSlack && s2 < -kConservativeSlack);
 }
 
-bool ViewWedge::touchesBox(const Vec2& lo, const Vec2& hi) const {
+bool ViewWedge::withinFar(const Vec2& lo, const Vec2& hi) const {
+    if (std::isinf(m_far)) return true;
+    // The wedge and the disc are tested separately by touchesBox, which can only over-report.
+    const Vec2 nearest = glm::clamp(m_apex, lo, hi);
+    const double r = m_far + kConservativeSlack;
+    return lengthSquared<2>(nearest - m_apex) <= r * r;
+}
+
+bool ViewWedge::touchesWedge(const Vec2& lo, const Vec2& hi) const {
     const double eps = kConservativeSlack;
-    if (!std::isinf(m_far)) {
-        // Distance from the apex to the box; the wedge and the disc are tested separately, which can only
-        // over-report (conservative).
-        Vec2 nearest = glm::clamp(m_apex, lo, hi);
-        if (lengthSquared<2>(nearest - m_apex) > (m_far + eps) * (m_far + eps)) return false;
-    }
     if (m_full) return true;
+    // Fast path (most voxels of a traversed ring): the box's centre lies in the wedge.
+    {
+        const Vec2 r = 0.5 * (lo + hi) - m_apex;
+        const double s1 = glm::dot(m_n1, r), s2 = glm::dot(m_n2, r);
+        if (m_convex ? (s1 >= 0 && s2 >= 0) : (s1 >= 0 || s2 >= 0)) return true;
+    }
     if (m_apex.x >= lo.x - eps && m_apex.x <= hi.x + eps && m_apex.y >= lo.y - eps && m_apex.y <= hi.y + eps)
         return true;
 

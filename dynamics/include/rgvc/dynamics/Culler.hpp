@@ -87,7 +87,9 @@ struct CullerOptions {
 
 template <int D> class Culler {
 public:
-    /// @throws InvalidInput when the grid needs more memory than can be allocated ("grid.resolution").
+    /// @param grid  [Limit] 2D: at most 2^20 voxels per axis (exact integer occlusion arithmetic).
+    /// @throws InvalidInput when the grid is too large per axis or needs more memory than can be
+    ///         allocated ("grid.resolution").
     explicit Culler(const GridGeometry<D>& grid, const CullerOptions& options = {});
     ~Culler();
     Culler(Culler&&) noexcept;

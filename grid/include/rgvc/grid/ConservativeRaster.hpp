@@ -172,17 +172,21 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, Fn&& fn) {
                 forEachRow<D>(
                     lo, hi,
                     [&](const IVec<D>& row, std::int32_t& a, std::int32_t& b) {
-                        double rest = 0;
-                        for (int i = 1; i < D; ++i) {
-                            double dist = kInner ? farthestDistance(s.center[i], row[i])
-                                                 : nearestDistance(s.center[i], row[i]);
-                            rest += dist * dist;
-                        }
-                        double rr = kInner ? (r - kConservativeSlack) : (r + kConservativeSlack);
+                        const double rr = kInner ? (r - kConservativeSlack) : (r + kConservativeSlack);
                         if (rr <= 0) return false;
-                        double w2 = rr * rr - rest;
+                        // Squares are taken after scaling by the largest length, so that a finite ball
+                        // of radius 1e200 does not overflow to inf - inf = NaN.
+                        double dist[D > 1 ? D - 1 : 1];
+                        double scale = rr;
+                        for (int i = 1; i < D; ++i) {
+                            dist[i - 1] = kInner ? farthestDistance(s.center[i], row[i])
+                                                 : nearestDistance(s.center[i], row[i]);
+                            scale = std::max(scale, dist[i - 1]);
+                        }
+                        double w2 = (rr / scale) * (rr / scale);
+                        for (int i = 1; i < D; ++i) w2 -= (dist[i - 1] / scale) * (dist[i - 1] / scale);
                         if (w2 < 0) return false;
-                        double w = std::sqrt(w2);
+                        const double w = scale * std::sqrt(w2);
                         if constexpr (kInner)
                             innerRange(s.center.x - w, s.center.x + w, res.x, a, b);
                         else

@@ -10,7 +10,9 @@
 //      of rays from a point inside c, each ray crosses the ring's annulus in one segment, and the union
 //      of these segments is connected). The arc is walked from the line-of-sight seed in both directions
 //      (the paper's direction rules, see ChessRing2D.hpp) until a voxel that misses the wedge, or until
-//      the walks have covered all 8k voxels (wide views).
+//      the walks have covered all 8k voxels (wide views). The far cut is applied per voxel, not to the
+//      walk: a disc can cut a ring into up to four pieces (its corners lie farther than its sides),
+//      so the wedge-and-disc voxels of a ring need not be contiguous, while the wedge's are.
 //   3. A visited voxel not in H reports its ids (callback) and, if opaque and not yet part of an
 //      extended occluder, starts an occluder extension whose runs become occlusion polygons.
 //   4. Early termination: if every in-grid voxel of the arc is opaque or occluded, every ray to anything
@@ -93,7 +95,7 @@ public:
             std::uint64_t inGrid = 0, open = 0;
             auto process = [&](std::int64_t p) {
                 const IVec2 v = c + ringOffset(k, p);
-                if (!grid.contains(v)) return;
+                if (!grid.contains(v) || !wedge.voxelWithinFar(v)) return;
                 ++inGrid;
                 const VoxelKey key = grid.linearIndex(v);
                 storage.setVisited(key, stamp);
@@ -111,9 +113,9 @@ public:
                 if (options.occlusion && !storage.used(key, stamp)) extend(grid, storage, c, v, stamp, options, isBlocker, stats);
             };
             // Counter-clockwise from the seed, then clockwise from just before it.
-            for (std::int64_t p = p0; walked < perimeter && wedge.touchesVoxel(c + ringOffset(k, p)); ++p, ++walked)
+            for (std::int64_t p = p0; walked < perimeter && wedge.voxelTouchesWedge(c + ringOffset(k, p)); ++p, ++walked)
                 process(p);
-            for (std::int64_t p = p0 - 1; walked < perimeter && wedge.touchesVoxel(c + ringOffset(k, p)); --p, ++walked)
+            for (std::int64_t p = p0 - 1; walked < perimeter && wedge.voxelTouchesWedge(c + ringOffset(k, p)); --p, ++walked)
                 process(p);
 
             stats.layers = std::uint32_t(k + 1);
@@ -129,15 +131,15 @@ public:
     }
 
 private:
-    /// Seed of ring k on the line of sight; if rounding put it just outside the wedge (or the far cut
-    /// removed it), any voxel of the ring that touches the wedge will do. False: no voxel of ring k
-    /// touches the view region, and then none farther does either.
+    /// Seed of ring k on the line of sight; if rounding put it just outside the wedge, any voxel of the
+    /// ring that touches the wedge will do. False: no voxel of ring k touches the wedge, and then none
+    /// farther does either.
     bool findSeed(const ViewWedge& wedge, const IVec2& c, std::int32_t k, std::int64_t& p) const {
         const IVec2 o = lineOfSightSeed(wedge.apex(), wedge.direction(), c, k);
         p = ringIndex(o, k);
-        if (wedge.touchesVoxel(c + o)) return true;
+        if (wedge.voxelTouchesWedge(c + o)) return true;
         for (std::int64_t q = 0, n = 8 * std::int64_t(k); q < n; ++q) {
-            if (wedge.touchesVoxel(c + ringOffset(k, q))) {
+            if (wedge.voxelTouchesWedge(c + ringOffset(k, q))) {
                 p = q;
                 return true;
             }

@@ -26,13 +26,18 @@
 
 namespace rgvc {
 
-__extension__ typedef __int128 Int128; // exact products of 2^31-range coordinates
+/// [Voxels] largest grid extent per axis the exact integer evaluation supports: coefficients stay below
+/// 2^22, constants below 2^45 and every evaluation below 2^47, far inside int64 (so no 128-bit division
+/// in the per-ring loop, which profiling showed cost a third of the traversal).
+inline constexpr std::int32_t kMaxShadowExtent = 1 << 20;
+
+using WideInt = std::int64_t; // exact for coordinates within kMaxShadowExtent
 
 /// Strict half-plane a*x + b*y + c > 0 over integer voxel-centre coordinates.
 struct IntHalfPlane {
     std::int64_t a = 0, b = 0;
-    Int128 c = 0;
-    Int128 eval(std::int64_t x, std::int64_t y) const { return Int128(a) * x + Int128(b) * y + c; }
+    WideInt c = 0;
+    WideInt eval(std::int64_t x, std::int64_t y) const { return WideInt(a) * x + WideInt(b) * y + c; }
 };
 
 class OcclusionShadow2D {
@@ -74,8 +79,8 @@ public:
         }
         for (const IntHalfPlane& h : m_planes) {
             // h(origin + t*step) = k*t + r > 0
-            const Int128 k = Int128(h.a) * step.x + Int128(h.b) * step.y;
-            const Int128 r = h.eval(origin.x, origin.y);
+            const WideInt k = WideInt(h.a) * step.x + WideInt(h.b) * step.y;
+            const WideInt r = h.eval(origin.x, origin.y);
             if (k == 0) {
                 if (r <= 0) {
                     lo = 1;
@@ -84,10 +89,10 @@ public:
                 }
             } else if (k > 0) {
                 // t > -r/k  <=>  t >= floor(-r/k) + 1
-                lo = std::int64_t(std::max<Int128>(lo, std::min<Int128>(floorDiv(-r, k) + 1, Int128(hi) + 1)));
+                lo = std::int64_t(std::max<WideInt>(lo, std::min<WideInt>(floorDiv(-r, k) + 1, WideInt(hi) + 1)));
             } else {
                 // t < -r/k = r/(-k)  <=>  t <= ceil(r/(-k)) - 1
-                hi = std::int64_t(std::min<Int128>(hi, std::max<Int128>(-floorDiv(-r, -k) - 1, Int128(lo) - 1)));
+                hi = std::int64_t(std::min<WideInt>(hi, std::max<WideInt>(-floorDiv(-r, -k) - 1, WideInt(lo) - 1)));
             }
             if (lo > hi) return;
         }
@@ -99,7 +104,7 @@ private:
         IntHalfPlane h;
         h.a = -(std::int64_t(q.y) - p.y);
         h.b = std::int64_t(q.x) - p.x;
-        h.c = -(Int128(h.a) * p.x + Int128(h.b) * p.y);
+        h.c = -(WideInt(h.a) * p.x + WideInt(h.b) * p.y);
         return h;
     }
     static void flip(IntHalfPlane& h) {
@@ -107,8 +112,8 @@ private:
         h.b = -h.b;
         h.c = -h.c;
     }
-    static Int128 floorDiv(Int128 n, Int128 d) { // d > 0
-        Int128 q = n / d;
+    static WideInt floorDiv(WideInt n, WideInt d) { // d > 0
+        WideInt q = n / d;
         if ((n % d != 0) && (n < 0)) --q;
         return q;
     }

@@ -28,8 +28,15 @@ public:
 
     /// Conservative: true whenever the closed box [lo, hi] intersects the closed view region, and
     /// possibly when it misses it by less than kConservativeSlack. Exact otherwise (separating-axis test).
-    bool touchesBox(const Vec2& lo, const Vec2& hi) const;
+    bool touchesBox(const Vec2& lo, const Vec2& hi) const { return withinFar(lo, hi) && touchesWedge(lo, hi); }
     bool touchesVoxel(const IVec2& v) const { return touchesBox(Vec2(v), Vec2(v) + 1.0); }
+
+    /// The wedge alone, ignoring `far` (same conservative semantics).
+    bool touchesWedge(const Vec2& lo, const Vec2& hi) const;
+    bool voxelTouchesWedge(const IVec2& v) const { return touchesWedge(Vec2(v), Vec2(v) + 1.0); }
+    /// The far disc alone: the box has a point within far (+ slack) of the apex. Always true without far.
+    bool withinFar(const Vec2& lo, const Vec2& hi) const;
+    bool voxelWithinFar(const IVec2& v) const { return withinFar(Vec2(v), Vec2(v) + 1.0); }
 
     /// True when p lies in the closed region (with the same slack).
     bool containsPoint(const Vec2& p) const;

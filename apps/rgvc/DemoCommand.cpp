@@ -1,0 +1,243 @@
+// `rgvc demo [SCENE.json] [--out PATH.png] [--runs N] [--size PIXELS]`: culls a 2D scene once, prints a
+// summary and writes a picture of the grid in the style of the paper's Figure 1 (rgvc::render).
+//
+// The default scene is RGVC_DEFAULT_SCENE (set by apps/CMakeLists.txt to the source tree's
+// scenes/fig1-2d.json), else scenes/fig1-2d.json relative to the current directory.
+#include "SceneFile.hpp"
+
+#include "rgvc/dynamics/Culler.hpp"
+#include "rgvc/grid/Error.hpp"
+#include "rgvc/render/GridPicture.hpp"
+#include "rgvc/render/PngWriter.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace rgvc::cli {
+
+int runDemo(int argc, char** argv);
+
+namespace {
+
+const char* const kDemoUsage =
+    "usage: rgvc demo [SCENE.json] [--out PATH.png] [--runs N] [--size PIXELS]\n"
+    "\n"
+    "Culls a 2D scene for its camera (frame 0), prints a summary and writes a picture of the grid\n"
+    "after the cull, in the style of Figure 1 of the paper: opaque voxels dark gray, occluded light\n"
+    "gray, visited pale yellow, extended occluders purple, PVS objects blue, hidden objects red, view\n"
+    "edges solid, line of sight dashed, camera a black dot.\n"
+    "\n"
+    "arguments:\n"
+    "  SCENE.json      a 2D scene file (default: the repository's scenes/fig1-2d.json)\n"
+    "  --out PATH.png  where to write the picture (default: rgvc-demo.png)\n"
+    "  --runs N        cull N times (same camera) and report the median time (default: 10)\n"
+    "  --size PIXELS   about the longer side of the grid in the picture (default: 1024)\n"
+    "  -h, --help      this text\n"
+    "\n"
+    "Exit status: 0 success, 2 bad input or usage, or the picture cannot be written (one line on stderr).\n";
+
+/// Bad usage or input: reported as one line, exit status 2.
+struct DemoError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+bool fileExists(const std::string& path) {
+    std::error_code ec;
+    return std::filesystem::is_regular_file(path, ec);
+}
+
+std::string defaultScene() {
+    std::vector<std::string> tried;
+#ifdef RGVC_DEFAULT_SCENE
+    if (fileExists(RGVC_DEFAULT_SCENE)) return RGVC_DEFAULT_SCENE;
+    tried.push_back(RGVC_DEFAULT_SCENE);
+#endif
+    const std::string local = "scenes/fig1-2d.json";
+    if (fileExists(local)) return local;
+    tried.push_back(local);
+    std::string msg = "no scene given and the default scene was not found (looked at";
+    for (std::size_t i = 0; i < tried.size(); ++i) msg += (i ? ", " : " ") + tried[i];
+    throw DemoError(msg + ")");
+}
+
+long parseCount(const std::string& option, const char* text, long lo, long hi) {
+    std::string s = text;
+    std::size_t used = 0;
+    long v = 0;
+    try {
+        v = std::stol(s, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != s.size() || s.empty() || v < lo || v > hi)
+        throw DemoError(option + ": expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                        "], got '" + s + "'");
+    return v;
+}
+
+std::string fmt(double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+}
+
+std::string fmt(const Vec2& v) {
+    std::ostringstream os;
+    os << '(' << v.x << ", " << v.y << ')';
+    return os.str();
+}
+
+struct DemoArgs {
+    std::string scene;
+    std::string out = "rgvc-demo.png";
+    long runs = 10;
+    long size = 1024;
+    bool help = false;
+};
+
+DemoArgs parseArgs(int argc, char** argv) {
+    DemoArgs a;
+    bool haveScene = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        auto value = [&]() -> const char* {
+            if (i + 1 >= argc) throw DemoError(arg + ": missing value");
+            return argv[++i];
+        };
+        if (arg == "-h" || arg == "--help") {
+            a.help = true;
+        } else if (arg == "--out") {
+            a.out = value();
+            if (a.out.empty()) throw DemoError("--out: empty path");
+        } else if (arg == "--runs") {
+            a.runs = parseCount(arg, value(), 1, 1000000);
+        } else if (arg == "--size") {
+            a.size = parseCount(arg, value(), 16, 8192);
+        } else if (arg.size() > 1 && arg[0] == '-') {
+            throw DemoError("unknown option '" + arg + "' (try `rgvc demo --help`)");
+        } else {
+            if (haveScene) throw DemoError("more than one scene file given ('" + a.scene + "', '" + arg + "')");
+            a.scene = arg;
+            haveScene = true;
+        }
+    }
+    return a;
+}
+
+int demo(const DemoArgs& args) {
+    const std::string scenePath = args.scene.empty() ? defaultScene() : args.scene;
+    const Scene scene = loadScene(scenePath);
+    const SceneData2* data = scene.as<2>();
+    if (data == nullptr)
+        throw DemoError(scenePath + ": the demo draws 2D scenes only (this one has " +
+                        std::to_string(scene.dimensions) + " dimensions)");
+
+    const Camera2 camera = data->cameraAt(0);
+    Culler2D culler(data->grid);
+    std::vector<ObjectDesc<2>> objects;
+    objects.reserve(data->objects.size());
+    std::size_t staticCount = 0;
+    for (const SceneObject<2>& o : data->objects) {
+        objects.push_back(o.desc());
+        culler.addObject(objects.back());
+        staticCount += o.isStatic ? 1 : 0;
+    }
+
+    std::vector<double> timesMs;
+    timesMs.reserve(std::size_t(args.runs));
+    for (long run = 0; run < args.runs; ++run) {
+        const auto t0 = std::chrono::steady_clock::now();
+        culler.cull(camera);
+        const auto t1 = std::chrono::steady_clock::now();
+        timesMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    }
+    const double firstMs = timesMs.front();
+    std::vector<double> sorted = timesMs;
+    std::sort(sorted.begin(), sorted.end());
+    const std::size_t n = sorted.size();
+    const double medianMs = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+
+    const CullResult& r = culler.lastResult();
+    const CullStats& s = r.stats;
+    const GridGeometry2& g = data->grid;
+
+    GridPictureOptions opt;
+    opt.maxPixels = int(args.size);
+    opt.caption = std::filesystem::path(scenePath).filename().string() + "   grid " +
+                  std::to_string(g.resolution().x) + " x " + std::to_string(g.resolution().y) + "   " +
+                  std::to_string(objects.size()) + " objects   camera " + fmt(camera.position) + " fov " +
+                  fmt(camera.fovDeg);
+    const ImageRGB img = drawGridPicture(culler, camera, objects, opt);
+    try {
+        writePng(args.out, img);
+    } catch (const std::runtime_error& e) {
+        throw DemoError(std::string("cannot write the picture: ") + e.what());
+    }
+
+    std::ostringstream os;
+    os << "scene:    " << scenePath << "\n";
+    os << "grid:     " << g.resolution().x << " x " << g.resolution().y << " voxels of " << fmt(g.voxelSize())
+       << ", origin " << fmt(g.origin()) << "\n";
+    os << "camera:   position " << fmt(camera.position) << ", direction " << fmt(camera.direction) << ", fov "
+       << fmt(camera.fovDeg) << " deg, far " << fmt(camera.far) << "\n";
+    os << "objects:  " << objects.size() << " (" << staticCount << " static, " << objects.size() - staticCount
+       << " dynamic)\n";
+    os << "|PVS|:    " << r.pvs.size() << "\n";
+    os << "PVS ids: ";
+    const std::size_t shown = std::min<std::size_t>(r.pvs.size(), 200);
+    for (std::size_t i = 0; i < shown; ++i) os << ' ' << r.pvs[i];
+    if (shown < r.pvs.size()) os << " ... (" << r.pvs.size() - shown << " more)";
+    if (r.pvs.empty()) os << " (none)";
+    os << "\n";
+    os << "stats:    layers " << s.layers << ", voxels visited " << s.voxelsVisited << ", occluded "
+       << s.voxelsOccluded << ", occluders extended " << s.occludersExtended << ", occluder voxels "
+       << s.occluderVoxels << ", shadows " << s.shadows << ", voxels marked occluded " << s.voxelsMarkedOccluded
+       << "\n";
+    os << "          early termination " << (s.earlyTermination ? "yes" : "no") << ", occlusion skipped "
+       << (s.occlusionSkipped ? "yes" : "no") << ", fallback " << toString(s.fallback)
+       << ", objects outside the grid " << s.objectsOutsideGrid << "\n";
+    os << "cull:     median " << fmt(medianMs) << " ms over " << n << " run" << (n == 1 ? "" : "s") << " (first "
+       << fmt(firstMs) << " ms)\n";
+    std::error_code ec;
+    std::filesystem::path abs = std::filesystem::absolute(args.out, ec);
+    os << "picture:  " << (ec ? args.out : abs.string()) << " (" << img.width() << " x " << img.height()
+       << " pixels)\n";
+    std::cout << os.str();
+    return 0;
+}
+
+/// One line, whatever the message holds.
+std::string oneLine(std::string s) {
+    for (char& c : s)
+        if (c == '\n' || c == '\r') c = ' ';
+    return s;
+}
+
+} // namespace
+
+int runDemo(int argc, char** argv) {
+    try {
+        const DemoArgs args = parseArgs(argc, argv);
+        if (args.help) {
+            std::cout << kDemoUsage;
+            return 0;
+        }
+        return demo(args);
+    } catch (const DemoError& e) {
+        std::cerr << "rgvc demo: " << oneLine(e.what()) << "\n";
+    } catch (const SceneError& e) {
+        std::cerr << "rgvc demo: " << oneLine(e.what()) << "\n";
+    } catch (const InvalidInput& e) {
+        std::cerr << "rgvc demo: " << oneLine(e.what()) << "\n";
+    }
+    return 2;
+}
+
+} // namespace rgvc::cli

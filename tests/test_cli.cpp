@@ -1,0 +1,366 @@
+// The `rgvc` executable, run as a user runs it (RGVC_CLI_PATH, through the shell): the contract's
+// `rgvc cull` output, its bad-input behaviour (status 2, one stderr line, nothing on stdout), the
+// --dump-objects motion, and the end-to-end guarantee on the example scenes (RGVC_SCENES_DIR): every
+// exactly visible object of every frame is in the printed PVS.
+#include "SceneFile.hpp"
+#include "SceneMotion.hpp"
+#include "ExactVisibility2D.hpp"
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifndef RGVC_CLI_PATH
+#error "RGVC_CLI_PATH must name the rgvc executable (tests/CMakeLists.txt defines it)"
+#endif
+#ifndef RGVC_SCENES_DIR
+#error "RGVC_SCENES_DIR must name the scenes directory (tests/CMakeLists.txt defines it)"
+#endif
+
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Run {
+    int status = -1;
+    std::string out, err;
+    std::vector<json> lines() const {
+        std::vector<json> r;
+        std::istringstream in(out);
+        for (std::string line; std::getline(in, line);) r.push_back(json::parse(line));
+        return r;
+    }
+};
+
+std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+fs::path tempDir() {
+    static const fs::path dir = [] {
+        fs::path d = fs::temp_directory_path() / ("rgvc_test_cli_" + std::to_string(::getpid()));
+        fs::create_directories(d);
+        return d;
+    }();
+    return dir;
+}
+
+std::string writeTemp(const std::string& name, const std::string& text) {
+    fs::path p = tempDir() / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p.string();
+}
+
+std::string scenePath(const std::string& name) { return (fs::path(RGVC_SCENES_DIR) / name).string(); }
+
+/// Runs `rgvc <args>` (args already quoted as needed), capturing stdout, stderr and the exit status.
+Run runRgvc(const std::string& args) {
+    const std::string errFile = (tempDir() / "stderr.txt").string();
+    const std::string cmd = quote(RGVC_CLI_PATH) + " " + args + " 2>" + quote(errFile);
+    Run r;
+    FILE* p = ::popen(cmd.c_str(), "r");
+    REQUIRE(p != nullptr);
+    char buf[65536];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) r.out.append(buf, n);
+    int st = ::pclose(p);
+    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0);
+    std::ifstream e(errFile, std::ios::binary);
+    r.err.assign(std::istreambuf_iterator<char>(e), std::istreambuf_iterator<char>());
+    return r;
+}
+
+std::size_t countLines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+
+/// Status 2, nothing on stdout, exactly one stderr line that starts with `prefix`.
+void checkRejected(const Run& r, const std::string& prefix) {
+    INFO("stderr: " << r.err);
+    CHECK(r.status == 2);
+    CHECK(r.out.empty());
+    CHECK(countLines(r.err) == 1);
+    CHECK(r.err.back() == '\n');
+    CHECK(r.err.rfind(prefix, 0) == 0);
+}
+
+json goodScene() {
+    return json::parse(R"({
+      "dimensions": 2,
+      "grid":   { "origin": [0, 0], "voxel_size": 1.0, "resolution": [64, 64] },
+      "camera": { "position": [4.5, 32.25], "direction": [1, 0.1], "fov_deg": 90 },
+      "objects": [
+        { "id": 5, "shape": "circle",  "center": [40, 30], "radius": 3.5, "velocity": [0.4, -0.1] },
+        { "id": 2, "shape": "box",     "min": [20, 10], "max": [24, 50], "static": true },
+        { "id": 9, "shape": "polygon", "points": [[50, 50], [60, 52], [55, 60]], "static": true },
+        { "id": 1, "shape": "circle",  "center": [10, 10], "radius": 2 }
+      ]
+    })");
+}
+
+/// The exact visibility of frame t, from the scene and the motion rule, as sorted ids.
+std::vector<rgvc::ObjectId> exactIds(const rgvc::SceneData2& scene, const rgvc::SceneSimulator2& sim, std::size_t t) {
+    std::vector<rgvc::Shape<2>> shapes;
+    for (std::size_t i = 0; i < sim.size(); ++i) shapes.push_back(sim.shapeAt(i));
+    std::vector<bool> visible = rgvc::reference::exactVisible2D(shapes, scene.cameraAt(t));
+    std::vector<rgvc::ObjectId> ids;
+    for (std::size_t i = 0; i < sim.size(); ++i)
+        if (visible[i]) ids.push_back(sim.idAt(i));
+    std::sort(ids.begin(), ids.end());
+    return ids;
+}
+
+/// Every printed line is frame t in order, with a sorted, unique pvs and a cull_ms.
+void checkLines(const std::vector<json>& lines, std::size_t frames) {
+    REQUIRE(lines.size() == frames);
+    for (std::size_t t = 0; t < frames; ++t) {
+        const json& l = lines[t];
+        INFO("line " << l.dump());
+        CHECK(l.at("frame") == t);
+        const json& pvs = l.at("pvs");
+        REQUIRE(pvs.is_array());
+        for (std::size_t k = 0; k < pvs.size(); ++k) {
+            REQUIRE(pvs[k].is_number_unsigned());
+            if (k > 0) CHECK(pvs[k - 1].get<std::uint64_t>() < pvs[k].get<std::uint64_t>());
+        }
+        const json& stats = l.at("stats");
+        REQUIRE(stats.at("cull_ms").is_number());
+        CHECK(stats["cull_ms"].get<double>() >= 0);
+        CHECK(stats.at("fallback").is_string());
+        for (const char* key : {"update_ms", "cull_call_ms", "object_count", "pvs_size", "layers", "voxels_visited",
+                                "voxels_occluded", "early_termination", "occlusion_skipped", "objects_outside_grid"})
+            CHECK(stats.contains(key));
+        CHECK(stats["pvs_size"] == pvs.size());
+    }
+}
+
+} // namespace
+
+TEST_CASE("rgvc --help, cull --help, --version", "[cli]") {
+    Run r = runRgvc("--help");
+    CHECK(r.status == 0);
+    CHECK(r.out.find("cull") != std::string::npos);
+    CHECK(r.err.empty());
+    r = runRgvc("cull --help");
+    CHECK(r.status == 0);
+    CHECK(r.out.find("--dump-objects") != std::string::npos);
+    r = runRgvc("--version");
+    CHECK(r.status == 0);
+    CHECK(r.out.rfind("rgvc ", 0) == 0);
+}
+
+TEST_CASE("bad usage: status 2, one line, nothing on stdout", "[cli]") {
+    const std::string good = quote(writeTemp("usage.json", goodScene().dump()));
+    checkRejected(runRgvc(""), "rgvc: ");
+    checkRejected(runRgvc("frobnicate"), "rgvc: ");
+    checkRejected(runRgvc("cull"), "rgvc cull: ");
+    checkRejected(runRgvc("cull " + good + " --bogus"), "rgvc cull: ");
+    checkRejected(runRgvc("cull " + good + " " + good), "rgvc cull: ");
+    checkRejected(runRgvc("cull " + good + " --frames"), "rgvc cull: --frames: ");
+    checkRejected(runRgvc("cull " + good + " --frames abc"), "rgvc cull: --frames: ");
+    checkRejected(runRgvc("cull " + good + " --frames 0"), "rgvc cull: --frames: ");
+    checkRejected(runRgvc("cull " + good + " --frames -3"), "rgvc cull: --frames: ");
+    checkRejected(runRgvc("cull " + good + " --frames 2x"), "rgvc cull: --frames: ");
+}
+
+TEST_CASE("bad scene files: status 2, one line naming file and field, nothing on stdout", "[cli]") {
+    struct Case {
+        const char* name;
+        std::string text;
+        const char* field;
+    };
+    auto with = [](auto edit) {
+        json j = goodScene();
+        edit(j);
+        return j.dump();
+    };
+    std::string overflow = goodScene().dump();
+    overflow.replace(overflow.find("3.5"), 3, "1e999");
+    const std::vector<Case> cases = {
+        {"invalid.json", "{ \"dimensions\": 2, ", "line "},
+        {"empty.json", "", "line "},
+        {"overflow.json", overflow, "objects[0].radius"},
+        {"shape.json", with([](json& j) { j["objects"][1]["shape"] = "hexagon"; }), "objects[1].shape"},
+        {"direction.json", with([](json& j) { j["camera"]["direction"] = {0, 0}; }), "camera.direction"},
+        {"fov.json", with([](json& j) { j["camera"]["fov_deg"] = 400; }), "camera.fov_deg"},
+        {"fov0.json", with([](json& j) { j["camera"]["fov_deg"] = 0; }), "camera.fov_deg"},
+        {"voxel.json", with([](json& j) { j["grid"]["voxel_size"] = 0; }), "grid.voxel_size"},
+        {"radius.json", with([](json& j) { j["objects"][3]["radius"] = -2; }), "objects[3].radius"},
+        {"dup.json", with([](json& j) { j["objects"][3]["id"] = 5; }), "objects[3].id"},
+        {"negid.json", with([](json& j) { j["objects"][0]["id"] = -1; }), "objects[0].id"},
+        {"minmax.json", with([](json& j) { j["objects"][1]["max"] = {20, 50}; }), "objects[1].max"},
+        {"veclen.json", with([](json& j) { j["objects"][0]["velocity"] = {1, 2, 3}; }), "objects[0].velocity"},
+        {"big.json", with([](json& j) { j["grid"]["resolution"] = {100000, 100000}; }), "grid.resolution"},
+        {"root.json", "[]", "(root)"},
+    };
+    for (const Case& c : cases) {
+        INFO(c.name);
+        const std::string path = writeTemp(c.name, c.text);
+        checkRejected(runRgvc("cull " + quote(path) + " --frames 3"), path + ": " + c.field);
+    }
+    const std::string missing = (tempDir() / "missing.json").string();
+    checkRejected(runRgvc("cull " + quote(missing)), missing + ": file: ");
+    checkRejected(runRgvc("cull " + quote(tempDir().string())), tempDir().string() + ": file: ");
+}
+
+TEST_CASE("camera_path shorter than --frames is refused before any output", "[cli]") {
+    json j = goodScene();
+    j["camera_path"] = json::parse(R"([{"position": [4, 4], "direction": [1, 1]}, {"position": [5, 5], "direction": [1, 1]}])");
+    const std::string path = writeTemp("path.json", j.dump());
+    checkRejected(runRgvc("cull " + quote(path) + " --frames 3"), path + ": camera_path: ");
+    Run ok = runRgvc("cull " + quote(path) + " --frames 2");
+    CHECK(ok.status == 0);
+    checkLines(ok.lines(), 2);
+}
+
+TEST_CASE("3D scenes are validated, then refused for now", "[cli]") {
+    json j = json::parse(R"({
+      "dimensions": 3,
+      "grid":   { "origin": [0, 0, 0], "voxel_size": 1, "resolution": [16, 16, 16] },
+      "camera": { "position": [1, 1, 1], "direction": [1, 0, 0], "fov_deg": 60 },
+      "objects": [ { "id": 1, "shape": "sphere", "center": [8, 8, 8], "radius": 2 } ]
+    })");
+    const std::string path = writeTemp("three.json", j.dump());
+    Run r = runRgvc("cull " + quote(path));
+    checkRejected(r, path + ": dimensions: ");
+    CHECK(r.err.find("3D culling is not implemented yet") != std::string::npos);
+    j["objects"][0]["shape"] = "circle";
+    const std::string bad = writeTemp("three-bad.json", j.dump());
+    checkRejected(runRgvc("cull " + quote(bad)), bad + ": objects[0].shape: ");
+}
+
+TEST_CASE("a good scene: N lines, sorted pvs, stats", "[cli]") {
+    const std::string path = writeTemp("good.json", goodScene().dump());
+    Run r = runRgvc("cull " + quote(path) + " --frames 7");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.empty());
+    checkLines(r.lines(), 7);
+    CHECK_FALSE(r.lines()[0].contains("objects"));
+
+    Run one = runRgvc("cull " + quote(path));
+    REQUIRE(one.status == 0);
+    checkLines(one.lines(), 1);
+    Run eq = runRgvc("cull --frames=4 " + quote(path) + " --no-occlusion --no-extension");
+    REQUIRE(eq.status == 0);
+    checkLines(eq.lines(), 4);
+
+    json empty = goodScene();
+    empty["objects"] = json::array();
+    Run none = runRgvc("cull " + quote(writeTemp("empty-objects.json", empty.dump())) + " --frames 2");
+    REQUIRE(none.status == 0);
+    checkLines(none.lines(), 2);
+    CHECK(none.lines()[1]["pvs"].empty());
+}
+
+TEST_CASE("cull --dump-objects prints the motion rule's translations", "[cli]") {
+    json j = goodScene();
+    // A circle about to hit the right bound (64): bbox x [59, 63], v = 1.5.
+    j["objects"].push_back(json::parse(R"({"id": 30, "shape": "circle", "center": [61, 20], "radius": 2, "velocity": [1.5, 0]})"));
+    // One that starts outside, moving away: turned round at once.
+    j["objects"].push_back(json::parse(R"({"id": 31, "shape": "box", "min": [70, 5], "max": [72, 7], "velocity": [0.5, 0]})"));
+    const std::string path = writeTemp("motion.json", j.dump());
+    Run r = runRgvc("cull " + quote(path) + " --frames 40 --dump-objects");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    std::vector<json> lines = r.lines();
+    checkLines(lines, 40);
+
+    rgvc::Scene scene = rgvc::loadScene(path);
+    rgvc::SceneSimulator2 sim(*scene.as<2>());
+    for (std::size_t t = 0; t < lines.size(); ++t) {
+        if (t > 0) sim.step();
+        const json& objects = lines[t].at("objects");
+        REQUIRE(objects.size() == sim.size());
+        for (std::size_t k = 0; k < objects.size(); ++k) {
+            const rgvc::ObjectId id = objects[k].at("id").get<rgvc::ObjectId>();
+            if (k > 0) CHECK(objects[k - 1]["id"].get<rgvc::ObjectId>() < id); // ascending id
+            const json& tr = objects[k].at("translation");
+            REQUIRE(tr.size() == 2);
+            // Printed in shortest round-trip form: equal to the bit.
+            CHECK(tr[0].get<double>() == sim.translation(id).x);
+            CHECK(tr[1].get<double>() == sim.translation(id).y);
+        }
+    }
+    auto tx = [&](std::size_t t, rgvc::ObjectId id) {
+        for (const json& o : lines[t]["objects"])
+            if (o["id"] == id) return o["translation"][0].get<double>();
+        FAIL("no object " << id);
+        return 0.0;
+    };
+    CHECK(tx(1, 30) == -1.5); // bbox max 63 + 1.5 > 64: flips at the first step
+    CHECK(tx(2, 30) == -3.0);
+    CHECK(tx(1, 31) == -0.5);
+    CHECK(tx(1, 5) == 0.4);
+    CHECK(tx(0, 5) == 0.0);
+    CHECK(tx(39, 2) == 0.0); // static
+}
+
+TEST_CASE("example scenes: every exactly visible object is in the printed PVS", "[cli]") {
+    struct Example {
+        const char* file;
+        std::size_t frames;
+        const char* flags;
+    };
+    for (const Example& e : {Example{"small-2d.json", 60, ""}, Example{"small-2d.json", 30, "--no-extension"},
+                             Example{"small-2d.json", 10, "--no-occlusion"}, Example{"walk-2d.json", 60, ""},
+                             Example{"fig1-2d.json", 4, ""}}) {
+        INFO(e.file << " " << e.flags);
+        const std::string path = scenePath(e.file);
+        Run r = runRgvc("cull " + quote(path) + " --frames " + std::to_string(e.frames) + " " + e.flags);
+        INFO(r.err);
+        REQUIRE(r.status == 0);
+        std::vector<json> lines = r.lines();
+        checkLines(lines, e.frames);
+
+        rgvc::Scene scene = rgvc::loadScene(path);
+        const rgvc::SceneData2& data = *scene.as<2>();
+        rgvc::SceneSimulator2 sim(data);
+        std::size_t visibleTotal = 0, pvsTotal = 0;
+        for (std::size_t t = 0; t < e.frames; ++t) {
+            if (t > 0) sim.step();
+            std::vector<rgvc::ObjectId> pvs = lines[t]["pvs"].get<std::vector<rgvc::ObjectId>>();
+            std::vector<rgvc::ObjectId> exact = exactIds(data, sim, t);
+            std::vector<rgvc::ObjectId> missed;
+            std::set_difference(exact.begin(), exact.end(), pvs.begin(), pvs.end(), std::back_inserter(missed));
+            INFO("frame " << t << ": missed " << json(missed).dump());
+            CHECK(missed.empty());
+            visibleTotal += exact.size();
+            pvsTotal += pvs.size();
+        }
+        // Occlusion must do something on the dense scenes; a loose bound, not a benchmark.
+        if (std::string(e.flags).empty() && std::string(e.file) == "fig1-2d.json")
+            CHECK(pvsTotal < 300 * e.frames / 2);
+        CHECK(visibleTotal > 0); // the check above was not vacuous
+        CHECK(pvsTotal >= visibleTotal);
+    }
+}
+
+TEST_CASE("cameras and objects outside the grid are legal", "[cli]") {
+    json j = goodScene();
+    j["camera"]["position"] = {-20.5, 30};
+    j["objects"].push_back(json::parse(R"({"id": 40, "shape": "box", "min": [-10, 28], "max": [-8, 34]})"));
+    j["objects"].push_back(json::parse(R"({"id": 41, "shape": "circle", "center": [63, 63], "radius": 5})"));
+    const std::string path = writeTemp("outside.json", j.dump());
+    Run r = runRgvc("cull " + quote(path) + " --frames 3");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    std::vector<json> lines = r.lines();
+    checkLines(lines, 3);
+    rgvc::Scene scene = rgvc::loadScene(path);
+    rgvc::SceneSimulator2 sim(*scene.as<2>());
+    std::vector<rgvc::ObjectId> exact = exactIds(*scene.as<2>(), sim, 0);
+    std::vector<rgvc::ObjectId> pvs = lines[0]["pvs"].get<std::vector<rgvc::ObjectId>>();
+    CHECK(std::includes(pvs.begin(), pvs.end(), exact.begin(), exact.end()));
+    CHECK(std::binary_search(pvs.begin(), pvs.end(), rgvc::ObjectId(40))); // in front of the camera, unoccluded
+}

@@ -1,0 +1,430 @@
+// GridGeometry (world <-> voxel mapping, bounds convention, linear indices, input validation) and the
+// dense VoxelStorage, checked against brute force. Tag: [grid].
+#include "rgvc/grid/GridGeometry.hpp"
+#include "rgvc/grid/VoxelStorage.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace rgvc;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Runs `make` and checks that it throws InvalidInput naming `field`, with what() = "<field>: ...".
+template <class F> void requireInvalid(F&& make, const std::string& field) {
+    bool threw = false;
+    try {
+        make();
+    } catch (const InvalidInput& e) {
+        threw = true;
+        CHECK(e.field() == field);
+        CHECK(std::string(e.what()).rfind(field + ": ", 0) == 0);
+    }
+    CHECK(threw);
+}
+
+/// Local coordinate of a world coordinate computed in extended precision (the reference mapping).
+long double refLocal(double world, double origin, double d) {
+    return ((long double)world - (long double)origin) / (long double)d;
+}
+
+} // namespace
+
+TEST_CASE("GridGeometry accessors and voxel count", "[grid]") {
+    GridGeometry2 g2(Vec2(-1.5, 2.0), 0.5, IVec2(7, 3));
+    CHECK(g2.origin() == Vec2(-1.5, 2.0));
+    CHECK(g2.voxelSize() == 0.5);
+    CHECK(g2.resolution() == IVec2(7, 3));
+    CHECK(g2.voxelCount() == 21);
+
+    GridGeometry3 g3(Vec3(0.0), 2.0, IVec3(4, 5, 6));
+    CHECK(g3.voxelCount() == 120);
+
+    GridGeometry2 def;
+    CHECK(def.voxelCount() == 1);
+    CHECK(def.voxelSize() == 1.0);
+    CHECK(def.toLocal(Vec2(0.25, 0.75)) == Vec2(0.25, 0.75));
+
+    // Products near the 2^31 - 1 limit are accepted and counted in size_t.
+    GridGeometry2 big(Vec2(0.0), 1.0, IVec2(46340, 46340));
+    CHECK(big.voxelCount() == std::size_t(46340) * 46340);
+    GridGeometry2 line(Vec2(0.0), 1.0, IVec2(std::numeric_limits<std::int32_t>::max(), 1));
+    CHECK(line.voxelCount() == std::size_t(std::numeric_limits<std::int32_t>::max()));
+}
+
+TEST_CASE("GridGeometry rejects invalid input with InvalidInput naming the field", "[grid]") {
+    const IVec2 r2(4, 4);
+    const IVec3 r3(4, 4, 4);
+    SECTION("origin must be finite on every axis") {
+        for (double bad : {kNaN, kInf, -kInf}) {
+            CAPTURE(bad);
+            requireInvalid([&] { GridGeometry2(Vec2(bad, 0.0), 1.0, r2); }, "grid.origin");
+            requireInvalid([&] { GridGeometry2(Vec2(0.0, bad), 1.0, r2); }, "grid.origin");
+            requireInvalid([&] { GridGeometry3(Vec3(0.0, 0.0, bad), 1.0, r3); }, "grid.origin");
+            requireInvalid([&] { GridGeometry3(Vec3(bad, 1.0, 2.0), 1.0, r3); }, "grid.origin");
+        }
+    }
+    SECTION("voxel size must be finite and > 0") {
+        for (double bad : {0.0, -0.0, -1.0, -1e-300, kNaN, kInf, -kInf}) {
+            CAPTURE(bad);
+            requireInvalid([&] { GridGeometry2(Vec2(0.0), bad, r2); }, "grid.voxel_size");
+            requireInvalid([&] { GridGeometry3(Vec3(0.0), bad, r3); }, "grid.voxel_size");
+        }
+        // The far corner must be finite and distinct from the origin.
+        requireInvalid([&] { GridGeometry2(Vec2(1e20, 0.0), 1e-10, IVec2(1, 1)); }, "grid.voxel_size");
+        requireInvalid([&] { GridGeometry2(Vec2(0.0, 1e308), 1e308, IVec2(2, 2)); }, "grid.voxel_size");
+        requireInvalid([&] { GridGeometry3(Vec3(0.0), 1e308, IVec3(1, 1, 3)); }, "grid.voxel_size");
+        // Tiny but representable voxels are fine.
+        CHECK_NOTHROW(GridGeometry2(Vec2(0.0), 1e-300, IVec2(3, 3)));
+        CHECK_NOTHROW(GridGeometry2(Vec2(1e6), 1e-3, IVec2(1000, 1000)));
+    }
+    SECTION("resolution must be >= 1 on every axis") {
+        for (std::int32_t bad : {0, -1, std::numeric_limits<std::int32_t>::min()}) {
+            CAPTURE(bad);
+            requireInvalid([&] { GridGeometry2(Vec2(0.0), 1.0, IVec2(bad, 4)); }, "grid.resolution");
+            requireInvalid([&] { GridGeometry2(Vec2(0.0), 1.0, IVec2(4, bad)); }, "grid.resolution");
+            requireInvalid([&] { GridGeometry3(Vec3(0.0), 1.0, IVec3(4, 4, bad)); }, "grid.resolution");
+            requireInvalid([&] { GridGeometry3(Vec3(0.0), 1.0, IVec3(bad, 4, 4)); }, "grid.resolution");
+        }
+        CHECK_NOTHROW(GridGeometry2(Vec2(0.0), 1.0, IVec2(1, 1)));
+        CHECK_NOTHROW(GridGeometry3(Vec3(0.0), 1.0, IVec3(1, 1, 1)));
+    }
+    SECTION("at most 2^31 - 1 voxels in all") {
+        const std::int32_t maxI = std::numeric_limits<std::int32_t>::max();
+        requireInvalid([&] { GridGeometry2(Vec2(0.0), 1.0, IVec2(65536, 32768)); }, "grid.resolution");
+        requireInvalid([&] { GridGeometry2(Vec2(0.0), 1.0, IVec2(46341, 46341)); }, "grid.resolution");
+        requireInvalid([&] { GridGeometry2(Vec2(0.0), 1.0, IVec2(maxI, 2)); }, "grid.resolution");
+        requireInvalid([&] { GridGeometry2(Vec2(0.0), 1.0, IVec2(maxI, maxI)); }, "grid.resolution");
+        requireInvalid([&] { GridGeometry3(Vec3(0.0), 1.0, IVec3(2048, 1024, 1024)); }, "grid.resolution");
+        requireInvalid([&] { GridGeometry3(Vec3(0.0), 1.0, IVec3(1291, 1291, 1291)); }, "grid.resolution");
+        requireInvalid([&] { GridGeometry3(Vec3(0.0), 1.0, IVec3(maxI, maxI, maxI)); }, "grid.resolution");
+        CHECK_NOTHROW(GridGeometry2(Vec2(0.0), 1.0, IVec2(maxI, 1)));
+        CHECK_NOTHROW(GridGeometry3(Vec3(0.0), 1.0, IVec3(1290, 1290, 1290)));
+        CHECK_NOTHROW(GridGeometry3(Vec3(0.0), 1.0, IVec3(1, 1, maxI)));
+    }
+}
+
+TEST_CASE("GridGeometry bounds convention on an exactly representable grid (2D)", "[grid]") {
+    // Power-of-two voxel size and origin: every voxel face is an exact double, so the closed-box
+    // convention can be checked exactly. Voxel v covers [origin + v*d, origin + (v+1)*d].
+    const Vec2 o(-3.0, 2.5);
+    const double d = 0.25;
+    const IVec2 res(9, 6);
+    GridGeometry2 g(o, d, res);
+    int checked = 0;
+    for (int y = 0; y < res.y; ++y)
+        for (int x = 0; x < res.x; ++x) {
+            const IVec2 v(x, y);
+            CAPTURE(x, y);
+            // Interior points (including the centre) map to v.
+            for (int i = 1; i < 8; ++i)
+                for (int j = 1; j < 8; ++j) {
+                    Vec2 p = o + (Vec2(v) + Vec2(i / 8.0, j / 8.0)) * d;
+                    if (g.voxelOf(p) != v) FAIL_CHECK("interior point " << i << "," << j << " not in its voxel");
+                    ++checked;
+                }
+            // Lower corner: lies in the closed boxes of v and its lower neighbours; voxelOf picks v (floor).
+            Vec2 lower = o + Vec2(v) * d;
+            CHECK(g.voxelOf(lower) == v);
+            CHECK(g.toLocal(lower) == Vec2(v));
+            // Upper corner: shared with v + (1,1); floor picks the larger index.
+            Vec2 upper = o + (Vec2(v) + 1.0) * d;
+            CHECK(g.voxelOf(upper) == v + 1);
+            // A point on the shared vertical face x = v.x + 1 (mid-height): floor picks x + 1.
+            Vec2 face = o + Vec2(x + 1.0, y + 0.5) * d;
+            CHECK(g.voxelOf(face) == IVec2(x + 1, y));
+            // Closed boxes: the face point lies in both neighbours' boxes (checked in local units).
+            Vec2 l = g.toLocal(face);
+            CHECK((l.x >= x && l.x <= x + 1 && l.y >= y && l.y <= y + 1));
+            CHECK((l.x >= x + 1 && l.x <= x + 2 && l.y >= y && l.y <= y + 1));
+            // Centre in local units is v + 0.5.
+            CHECK(g.toLocal(o + (Vec2(v) + 0.5) * d) == Vec2(v) + 0.5);
+            CHECK(g.toWorld(Vec2(v) + 0.5) == o + (Vec2(v) + 0.5) * d);
+        }
+    CHECK(checked == 49 * res.x * res.y);
+
+    // Points on the outer faces of the grid: the closed grid box contains them; voxelOf may leave the grid.
+    CHECK(g.containsLocal(Vec2(0.0, 0.0)));
+    CHECK(g.containsLocal(Vec2(res)));
+    CHECK(g.containsLocal(Vec2(res.x, 0.0)));
+    CHECK(g.voxelOf(o + Vec2(res) * d) == res);
+    CHECK_FALSE(g.contains(g.voxelOf(o + Vec2(res) * d)));
+    CHECK(g.voxelOf(o) == IVec2(0, 0));
+    CHECK(g.voxelOf(o - Vec2(1e-9)) == IVec2(-1, -1));
+}
+
+TEST_CASE("GridGeometry bounds convention on an exactly representable grid (3D)", "[grid]") {
+    const Vec3 o(1.0, -2.0, 0.5);
+    const double d = 2.0;
+    const IVec3 res(3, 4, 5);
+    GridGeometry3 g(o, d, res);
+    for (int z = 0; z < res.z; ++z)
+        for (int y = 0; y < res.y; ++y)
+            for (int x = 0; x < res.x; ++x) {
+                const IVec3 v(x, y, z);
+                CAPTURE(x, y, z);
+                CHECK(g.voxelOf(o + (Vec3(v) + 0.5) * d) == v);
+                CHECK(g.voxelOf(o + (Vec3(v) + Vec3(0.001, 0.999, 0.5)) * d) == v);
+                CHECK(g.voxelOf(o + Vec3(v) * d) == v);
+                CHECK(g.voxelOf(o + (Vec3(v) + 1.0) * d) == v + 1);
+                CHECK(g.contains(v));
+                CHECK(g.containsLocal(Vec3(v)));
+                CHECK(g.containsLocal(Vec3(v) + 1.0));
+            }
+}
+
+TEST_CASE("GridGeometry contains / containsLocal are the closed grid", "[grid]") {
+    GridGeometry2 g(Vec2(0.0), 1.0, IVec2(5, 3));
+    CHECK(g.contains(IVec2(0, 0)));
+    CHECK(g.contains(IVec2(4, 2)));
+    CHECK_FALSE(g.contains(IVec2(5, 2)));
+    CHECK_FALSE(g.contains(IVec2(4, 3)));
+    CHECK_FALSE(g.contains(IVec2(-1, 0)));
+    CHECK_FALSE(g.contains(IVec2(0, -1)));
+    CHECK(g.containsLocal(Vec2(5.0, 3.0)));
+    CHECK(g.containsLocal(Vec2(0.0, 1.5)));
+    CHECK_FALSE(g.containsLocal(Vec2(5.0 + 1e-12, 1.0)));
+    CHECK_FALSE(g.containsLocal(Vec2(-1e-300, 1.0)));
+    CHECK_FALSE(g.containsLocal(Vec2(kNaN, 1.0)));
+    CHECK_FALSE(g.containsLocal(Vec2(1.0, kInf)));
+
+    GridGeometry3 g3(Vec3(0.0), 1.0, IVec3(2, 3, 4));
+    CHECK(g3.contains(IVec3(1, 2, 3)));
+    CHECK_FALSE(g3.contains(IVec3(1, 2, 4)));
+    CHECK(g3.containsLocal(Vec3(2.0, 3.0, 4.0)));
+    CHECK_FALSE(g3.containsLocal(Vec3(2.0, 3.0, 4.0000001)));
+}
+
+TEST_CASE("GridGeometry voxelOfLocal floors and clamps to +-2^30", "[grid]") {
+    CHECK(GridGeometry2::voxelOfLocal(Vec2(0.0, 0.999)) == IVec2(0, 0));
+    CHECK(GridGeometry2::voxelOfLocal(Vec2(-0.5, -1.0)) == IVec2(-1, -1));
+    CHECK(GridGeometry2::voxelOfLocal(Vec2(-1e-300, 1.0)) == IVec2(-1, 1));
+    CHECK(GridGeometry2::voxelOfLocal(Vec2(1e12, -1e12)) == IVec2(1073741824, -1073741824));
+    CHECK(GridGeometry2::voxelOfLocal(Vec2(kInf, -kInf)) == IVec2(1073741824, -1073741824));
+    CHECK(GridGeometry3::voxelOfLocal(Vec3(3.5, -7.25, 1e300)) == IVec3(3, -8, 1073741824));
+}
+
+TEST_CASE("GridGeometry linearIndex is row-major, x fastest, and a bijection", "[grid]") {
+    SECTION("2D") {
+        GridGeometry2 g(Vec2(0.0), 1.0, IVec2(7, 5));
+        std::vector<int> hits(g.voxelCount(), 0);
+        for (int y = 0; y < 5; ++y)
+            for (int x = 0; x < 7; ++x) {
+                std::uint32_t i = g.linearIndex(IVec2(x, y));
+                CHECK(i == std::uint32_t(x + 7 * y));
+                REQUIRE(i < hits.size());
+                ++hits[i];
+            }
+        for (int h : hits) CHECK(h == 1);
+    }
+    SECTION("3D") {
+        GridGeometry3 g(Vec3(0.0), 1.0, IVec3(3, 4, 5));
+        std::vector<int> hits(g.voxelCount(), 0);
+        for (int z = 0; z < 5; ++z)
+            for (int y = 0; y < 4; ++y)
+                for (int x = 0; x < 3; ++x) {
+                    std::uint32_t i = g.linearIndex(IVec3(x, y, z));
+                    CHECK(i == std::uint32_t(x + 3 * (y + 4 * z)));
+                    REQUIRE(i < hits.size());
+                    ++hits[i];
+                }
+        for (int h : hits) CHECK(h == 1);
+    }
+    SECTION("largest grids: the last voxel has index count - 1") {
+        GridGeometry2 g2(Vec2(0.0), 1.0, IVec2(46340, 46340));
+        CHECK(g2.linearIndex(IVec2(46339, 46339)) == std::uint32_t(g2.voxelCount() - 1));
+        CHECK(g2.linearIndex(IVec2(46339, 0)) == 46339u);
+        CHECK(g2.linearIndex(IVec2(0, 1)) == 46340u);
+        GridGeometry3 g3(Vec3(0.0), 1.0, IVec3(1290, 1290, 1290));
+        CHECK(g3.linearIndex(IVec3(1289, 1289, 1289)) == std::uint32_t(g3.voxelCount() - 1));
+        CHECK(g3.linearIndex(IVec3(0, 0, 1)) == 1290u * 1290u);
+        const std::int32_t maxI = std::numeric_limits<std::int32_t>::max();
+        GridGeometry2 line(Vec2(0.0), 1.0, IVec2(1, maxI));
+        CHECK(line.linearIndex(IVec2(0, maxI - 1)) == std::uint32_t(maxI - 1));
+    }
+}
+
+TEST_CASE("GridGeometry world <-> local mapping on random grids", "[grid]") {
+    const std::uint64_t seed = 0x9a1d5eedULL;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    int failures = 0;
+    for (int iter = 0; iter < 2000; ++iter) {
+        const Vec2 o((uni(rng) - 0.5) * std::pow(10.0, 6 * uni(rng)), (uni(rng) - 0.5) * std::pow(10.0, 6 * uni(rng)));
+        const double d = std::pow(10.0, -3 + 5 * uni(rng));
+        const IVec2 res(1 + int(uni(rng) * 300), 1 + int(uni(rng) * 300));
+        GridGeometry2 g(o, d, res);
+        for (int k = 0; k < 20; ++k) {
+            // A random point in (or slightly around) the grid.
+            Vec2 l(uni(rng) * (res.x + 2) - 1, uni(rng) * (res.y + 2) - 1);
+            Vec2 w = o + l * d;
+            IVec2 v = g.voxelOf(w);
+            // Reference: the world point's local coordinate in extended precision lies in v's closed box
+            // (up to the rounding of the mapping, far below a voxel).
+            for (int a = 0; a < 2; ++a) {
+                long double ref = refLocal(w[a], o[a], d);
+                long double tol = 1e-9L * (1 + std::fabs((long double)o[a] / d));
+                if (!(ref >= v[a] - tol && ref <= v[a] + 1 + tol)) {
+                    if (failures++ < 5)
+                        FAIL_CHECK("seed " << seed << " iter " << iter << " axis " << a << ": world " << w[a]
+                                           << " local " << (double)ref << " mapped to voxel " << v[a]);
+                }
+            }
+            // Round trips.
+            Vec2 back = g.toLocal(g.toWorld(l));
+            for (int a = 0; a < 2; ++a) {
+                double tol = 1e-12 * (1 + std::abs(l[a]) + std::abs(o[a]) / d);
+                if (!(std::abs(back[a] - l[a]) <= tol)) {
+                    if (failures++ < 5)
+                        FAIL_CHECK("seed " << seed << " iter " << iter << " round trip " << l[a] << " -> " << back[a]);
+                }
+            }
+            double len = uni(rng) * 100;
+            if (!(std::abs(g.toLocalLength(len) - len / d) <= 1e-14 * len / d)) ++failures;
+        }
+    }
+    CHECK(failures == 0);
+}
+
+TEST_CASE("GridGeometry with large offsets: origin 1e6, voxel 1e-3", "[grid]") {
+    const std::uint64_t seed = 0x0ff5e7ULL;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    SECTION("2D") {
+        const Vec2 o(1e6, -1e6);
+        const double d = 1e-3;
+        const IVec2 res(1000, 1000);
+        GridGeometry2 g(o, d, res);
+        int failures = 0;
+        for (int k = 0; k < 20000; ++k) {
+            IVec2 v(int(uni(rng) * res.x), int(uni(rng) * res.y));
+            // Fractions at least 1e-3 voxel from any face: the world point is representable to ~1e-7 voxel.
+            Vec2 f(0.001 + 0.998 * uni(rng), 0.001 + 0.998 * uni(rng));
+            Vec2 w = o + (Vec2(v) + f) * d;
+            if (g.voxelOf(w) != v) {
+                if (failures++ < 5) FAIL_CHECK("voxel " << v.x << "," << v.y << " frac " << f.x << "," << f.y);
+            }
+            Vec2 l = g.toLocal(w);
+            for (int a = 0; a < 2; ++a) {
+                long double ref = refLocal(w[a], o[a], d);
+                if (!(std::fabs((long double)l[a] - ref) <= 1e-9L)) ++failures;  // ~1e-13 expected
+                if (!(std::abs(l[a] - (v[a] + f[a])) <= 1e-6)) ++failures;       // world rounding ~1e-7
+            }
+            Vec2 back = g.toLocal(g.toWorld(Vec2(v) + f));
+            if (!(std::abs(back.x - (v.x + f.x)) <= 1e-6 && std::abs(back.y - (v.y + f.y)) <= 1e-6)) ++failures;
+            // The centre of every voxel maps back to it, and is 0.5 voxel from both faces.
+            Vec2 c = g.toWorld(Vec2(v) + 0.5);
+            if (g.voxelOf(c) != v) ++failures;
+        }
+        CHECK(failures == 0);
+        CHECK(g.voxelOf(o) == IVec2(0, 0));
+        CHECK(g.voxelOf(Vec2(o.x - 1e-6, o.y)) == IVec2(-1, 0)); // one thousandth of a voxel below the grid
+        CHECK(g.toLocalLength(1.0) == Approx(1000.0).epsilon(1e-14));
+    }
+    SECTION("3D") {
+        const Vec3 o(1e6, 1e6, -1e6);
+        const double d = 1e-3;
+        const IVec3 res(100, 200, 50);
+        GridGeometry3 g(o, d, res);
+        int failures = 0;
+        for (int k = 0; k < 20000; ++k) {
+            IVec3 v(int(uni(rng) * res.x), int(uni(rng) * res.y), int(uni(rng) * res.z));
+            Vec3 f(0.001 + 0.998 * uni(rng), 0.001 + 0.998 * uni(rng), 0.001 + 0.998 * uni(rng));
+            Vec3 w = o + (Vec3(v) + f) * d;
+            if (g.voxelOf(w) != v) ++failures;
+            if (!g.contains(g.voxelOf(w))) ++failures;
+            Vec3 l = g.toLocal(w);
+            for (int a = 0; a < 3; ++a)
+                if (!(std::abs(l[a] - (v[a] + f[a])) <= 1e-6)) ++failures;
+        }
+        CHECK(failures == 0);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// DenseStorage: the grid matrices' dense backend.
+
+TEST_CASE("DenseStorage opaque counts, frame stamps and id lists", "[grid]") {
+    GridGeometry2 g(Vec2(0.0), 1.0, IVec2(8, 8));
+    DenseStorage<2> s(g);
+    const VoxelKey k = g.linearIndex(IVec2(3, 4));
+    const VoxelKey k2 = g.linearIndex(IVec2(7, 7));
+
+    SECTION("opaque is a count") {
+        CHECK_FALSE(s.opaque(k));
+        s.addOpaque(k, 1);
+        s.addOpaque(k, 1);
+        CHECK(s.opaque(k));
+        s.addOpaque(k, -1);
+        CHECK(s.opaque(k));
+        s.addOpaque(k, -1);
+        CHECK_FALSE(s.opaque(k));
+        CHECK_FALSE(s.opaque(k2));
+    }
+    SECTION("stamps: set for one frame only, reset clears") {
+        CHECK_FALSE(s.occluded(k, 1));
+        s.setOccluded(k, 1);
+        s.setUsed(k, 1);
+        s.setVisited(k2, 1);
+        CHECK(s.occluded(k, 1));
+        CHECK(s.used(k, 1));
+        CHECK(s.visited(k2, 1));
+        CHECK_FALSE(s.occluded(k, 2));
+        CHECK_FALSE(s.used(k, 2));
+        CHECK_FALSE(s.visited(k2, 2));
+        CHECK_FALSE(s.occluded(k2, 1));
+        s.setOccluded(k, 0xFFFFFFFEu);
+        s.resetStamps();
+        CHECK_FALSE(s.occluded(k, 0xFFFFFFFEu));
+        CHECK_FALSE(s.occluded(k, 1));
+        CHECK_FALSE(s.used(k, 1));
+        CHECK_FALSE(s.visited(k2, 1));
+    }
+    SECTION("id lists against a brute-force multiset") {
+        std::mt19937_64 rng(42);
+        std::vector<std::multiset<ObjectSlot>> ref(g.voxelCount());
+        std::size_t total = 0;
+        for (int step = 0; step < 20000; ++step) {
+            VoxelKey key = VoxelKey(rng() % g.voxelCount());
+            ObjectSlot o = ObjectSlot(rng() % 6);
+            if (rng() % 3 != 0) {
+                s.addId(key, o);
+                ref[key].insert(o);
+                ++total;
+            } else {
+                s.removeId(key, o);
+                auto it = ref[key].find(o);
+                if (it != ref[key].end()) {
+                    ref[key].erase(it);
+                    --total;
+                }
+            }
+        }
+        CHECK(s.idCount() == total);
+        int mismatches = 0;
+        for (VoxelKey key = 0; key < g.voxelCount(); ++key) {
+            std::multiset<ObjectSlot> got;
+            s.forEachId(key, [&](ObjectSlot o) { got.insert(o); });
+            if (got != ref[key]) ++mismatches;
+            if (s.hasIds(key) != !ref[key].empty()) ++mismatches;
+        }
+        CHECK(mismatches == 0);
+        // Removing everything leaves no ids; removing an absent id is a no-op.
+        for (VoxelKey key = 0; key < g.voxelCount(); ++key)
+            for (ObjectSlot o : std::multiset<ObjectSlot>(ref[key])) s.removeId(key, o);
+        s.removeId(k, 99);
+        CHECK(s.idCount() == 0);
+        for (VoxelKey key = 0; key < g.voxelCount(); ++key) CHECK_FALSE(s.hasIds(key));
+    }
+}
