@@ -23,6 +23,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
+#include <vector>
 
 namespace rgvc {
 
@@ -44,26 +46,58 @@ class OcclusionShadow2D {
 public:
     /// @param camera  camera voxel C; @param a, b  ends of an axis-aligned run of occluder voxels.
     /// valid() is false when the run is a single voxel or C is on the run's line (no from-region shadow).
-    OcclusionShadow2D(const IVec2& camera, const IVec2& a, const IVec2& b) {
+    OcclusionShadow2D(const IVec2& camera, const IVec2& a, const IVec2& b) : m_apex(camera) {
         const IVec2 ca = a - camera, cb = b - camera;
         const std::int64_t orient = cross2(ca, cb); // 2 * signed area of triangle C, A, B
         m_valid = a != b && orient != 0;
         if (!m_valid) return;
-        // Beyond AB: the side of line AB not containing C.
-        m_planes[0] = lineThrough(a, b);
-        if (m_planes[0].eval(camera.x, camera.y) > 0) flip(m_planes[0]);
+        m_coneLo = orient > 0 ? ca : cb;
+        m_coneHi = orient > 0 ? cb : ca;
         // Strictly on B's side of ray C->A and on A's side of ray C->B.
-        m_planes[1] = lineThrough(camera, a);
-        if (m_planes[1].eval(b.x, b.y) < 0) flip(m_planes[1]);
-        m_planes[2] = lineThrough(camera, b);
-        if (m_planes[2].eval(a.x, a.y) < 0) flip(m_planes[2]);
+        m_planes[0] = lineThrough(camera, a);
+        if (m_planes[0].eval(b.x, b.y) < 0) flip(m_planes[0]);
+        m_planes[1] = lineThrough(camera, b);
+        if (m_planes[1].eval(a.x, a.y) < 0) flip(m_planes[1]);
+        // Beyond AB: the side of line AB not containing C.
+        m_planes[2] = lineThrough(a, b);
+        if (m_planes[2].eval(camera.x, camera.y) > 0) flip(m_planes[2]);
+        m_planeCount = 3;
+        // Past chess distance m = max(|A - C|, |B - C|) every point of the open cone is beyond AB: the
+        // ray to it crosses AB (strictly between A and B) inside the chess ball of radius m, which
+        // contains the segment AB. From that ring on the shadow is just its cone (see cone()).
+        m_coneFrom = std::max(std::max(std::abs(ca.x), std::abs(ca.y)), std::max(std::abs(cb.x), std::abs(cb.y))) + 1;
+    }
+
+    /// The open cone from `camera` strictly between directions lo and hi (counter-clockwise from lo,
+    /// cross(lo, hi) > 0, so narrower than 180 degrees). A cone is a shadow's trace on the rings past
+    /// coneFrom(); cones of such shadows may be merged (mergeCones) and stamped with two planes.
+    static OcclusionShadow2D cone(const IVec2& camera, const IVec2& lo, const IVec2& hi) {
+        OcclusionShadow2D s;
+        s.m_apex = camera;
+        s.m_valid = cross2(lo, hi) > 0;
+        if (!s.m_valid) return s;
+        s.m_coneLo = lo;
+        s.m_coneHi = hi;
+        s.m_planes[0] = lineThrough(camera, camera + lo);
+        if (s.m_planes[0].eval(camera.x + hi.x, camera.y + hi.y) < 0) flip(s.m_planes[0]);
+        s.m_planes[1] = lineThrough(camera, camera + hi);
+        if (s.m_planes[1].eval(camera.x + lo.x, camera.y + lo.y) < 0) flip(s.m_planes[1]);
+        s.m_planeCount = 2;
+        s.m_coneFrom = 0;
+        return s;
     }
 
     bool valid() const { return m_valid; }
+    const IVec2& coneLo() const { return m_coneLo; }
+    const IVec2& coneHi() const { return m_coneHi; }
+    /// First chess ring on which this shadow equals its open cone.
+    std::int32_t coneFrom() const { return m_coneFrom; }
 
     bool contains(const IVec2& q) const {
-        return m_valid && m_planes[0].eval(q.x, q.y) > 0 && m_planes[1].eval(q.x, q.y) > 0 &&
-               m_planes[2].eval(q.x, q.y) > 0;
+        if (!m_valid) return false;
+        for (int i = 0; i < m_planeCount; ++i)
+            if (!(m_planes[i].eval(q.x, q.y) > 0)) return false;
+        return true;
     }
 
     /// Range [lo, hi] (empty if lo > hi) of t such that the voxel `origin + t * step` is strictly inside,
@@ -77,7 +111,8 @@ public:
             hi = 0;
             return;
         }
-        for (const IntHalfPlane& h : m_planes) {
+        for (int i = 0; i < m_planeCount; ++i) {
+            const IntHalfPlane& h = m_planes[i];
             // h(origin + t*step) = k*t + r > 0
             const WideInt k = WideInt(h.a) * step.x + WideInt(h.b) * step.y;
             const WideInt r = h.eval(origin.x, origin.y);
@@ -118,8 +153,56 @@ private:
         return q;
     }
 
+    OcclusionShadow2D() = default;
+
     IntHalfPlane m_planes[3];
+    int m_planeCount = 0;
     bool m_valid = false;
+    IVec2 m_apex{0}, m_coneLo{0}, m_coneHi{0};
+    std::int32_t m_coneFrom = 0;
 };
+
+/// Direction d lies in the half-open angular interval [lo, hi) (lo counter-clockwise to hi, < 180 deg).
+inline bool directionInHalfOpenCone(const IVec2& d, const IVec2& lo, const IVec2& hi) {
+    const std::int64_t c = cross2(lo, d);
+    if (c == 0) return std::int64_t(lo.x) * d.x + std::int64_t(lo.y) * d.y > 0; // along lo itself
+    return c > 0 && cross2(d, hi) > 0;
+}
+
+/// Adds the open cone (lo, hi) to a set of open cones, merging it with every cone it overlaps as long as
+/// the union stays narrower than 180 degrees. The union of two *overlapping* open angular intervals is
+/// the open interval from the first start to the last end, and each of its directions lies in one of the
+/// two, so a merged cone hides only what its parts hide. Cones that merely touch (share a boundary ray)
+/// are not merged: voxel centres on that ray lie in neither open cone.
+inline bool sameDirection(const IVec2& a, const IVec2& b) {
+    return cross2(a, b) == 0 && std::int64_t(a.x) * b.x + std::int64_t(a.y) * b.y > 0;
+}
+
+inline void mergeCone(std::vector<OcclusionShadow2D>& cones, const IVec2& apex, IVec2 lo, IVec2 hi) {
+    for (bool merged = true; merged;) {
+        merged = false;
+        for (std::size_t i = 0; i < cones.size(); ++i) {
+            const IVec2 lo2 = cones[i].coneLo(), hi2 = cones[i].coneHi();
+            IVec2 first, last;
+            if (directionInHalfOpenCone(lo2, lo, hi)) {
+                first = lo;
+                last = directionInHalfOpenCone(hi2, lo, hi) || sameDirection(hi2, hi) ? hi : hi2;
+            } else if (directionInHalfOpenCone(lo, lo2, hi2)) {
+                first = lo2;
+                last = directionInHalfOpenCone(hi, lo2, hi2) || sameDirection(hi, hi2) ? hi2 : hi;
+            } else {
+                continue;
+            }
+            if (cross2(first, last) <= 0) continue; // the union would reach 180 degrees
+            lo = first;
+            hi = last;
+            cones[i] = cones.back();
+            cones.pop_back();
+            merged = true;
+            break;
+        }
+    }
+    cones.push_back(OcclusionShadow2D::cone(apex, lo, hi));
+}
 
 } // namespace rgvc
