@@ -223,20 +223,33 @@ TEST_CASE("camera_path shorter than --frames is refused before any output", "[cl
     checkLines(ok.lines(), 2);
 }
 
-TEST_CASE("3D scenes are validated, then refused for now", "[cli]") {
+TEST_CASE("3D scenes: culled, with every 3D rule checked first", "[cli]") {
     json j = json::parse(R"({
       "dimensions": 3,
       "grid":   { "origin": [0, 0, 0], "voxel_size": 1, "resolution": [16, 16, 16] },
-      "camera": { "position": [1, 1, 1], "direction": [1, 0, 0], "fov_deg": 60 },
-      "objects": [ { "id": 1, "shape": "sphere", "center": [8, 8, 8], "radius": 2 } ]
+      "camera": { "position": [1.5, 8.2, 8.3], "direction": [1, 0, 0], "fov_deg": 60 },
+      "objects": [ { "id": 1, "shape": "sphere", "center": [12, 8, 8], "radius": 1, "velocity": [0.2, 0, 0] },
+                   { "id": 2, "shape": "box", "min": [6, 2, 2], "max": [8, 14, 14] },
+                   { "id": 3, "shape": "sphere", "center": [4, 8, 8], "radius": 0.5 },
+                   { "id": 4, "shape": "sphere", "center": [1, 1, 14], "radius": 0.5 } ]
     })");
     const std::string path = writeTemp("three.json", j.dump());
-    Run r = runRgvc("cull " + quote(path));
-    checkRejected(r, path + ": dimensions: ");
-    CHECK(r.err.find("3D culling is not implemented yet") != std::string::npos);
+    Run r = runRgvc("cull " + quote(path) + " --frames 3 --dump-objects");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    checkLines(r.lines(), 3);
+    for (const json& line : r.lines()) {
+        // The wall (2) hides the sphere behind it (1); the small sphere in front (3) is seen; 4 is behind the camera.
+        CHECK(line["pvs"] == json::array({2, 3}));
+        CHECK(line["objects"][0]["translation"].size() == 3);
+    }
     j["objects"][0]["shape"] = "circle";
     const std::string bad = writeTemp("three-bad.json", j.dump());
     checkRejected(runRgvc("cull " + quote(bad)), bad + ": objects[0].shape: ");
+    j["objects"][0]["shape"] = "sphere";
+    j["camera"]["up"] = json::array({2, 0, 0});
+    const std::string badUp = writeTemp("three-bad-up.json", j.dump());
+    checkRejected(runRgvc("cull " + quote(badUp)), badUp + ": camera.up: ");
 }
 
 TEST_CASE("a good scene: N lines, sorted pvs, stats", "[cli]") {

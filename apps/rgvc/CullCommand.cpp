@@ -242,8 +242,7 @@ int runCull(int argc, char** argv) {
         Scene scene = loadScene(args.scenePath);
         requireFrames(scene, args.frames);
         if (const SceneData<2>* s2 = scene.as<2>()) return runFrames<2>(scene, *s2, args);
-        // Temporary: the 3D culler does not exist yet. The scene has been fully validated above.
-        throw SceneError(scene.name, "dimensions", "3D culling is not implemented yet");
+        return runFrames<3>(scene, *scene.as<3>(), args);
     } catch (const SceneError& e) {
         std::cerr << e.what() << "\n";
         return 2;

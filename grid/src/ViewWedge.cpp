@@ -1,5 +1,6 @@
 #include "rgvc/grid/ViewWedge.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rgvc {
@@ -14,11 +15,12 @@ Vec2 rotate(const Vec2& v, double a) {
 
 ViewWedge::ViewWedge(const Camera2& camera, const GridGeometry2& grid)
     : ViewWedge(grid.toLocal(camera.position), camera.direction, camera.fovDeg * kPi / 180.0,
-                std::isinf(camera.far) ? camera.far : grid.toLocalLength(camera.far)) {}
+                std::isinf(camera.far) ? camera.far : grid.toLocalLength(camera.far),
+                grid.conversionSlack(std::max(std::abs(camera.position.x), std::abs(camera.position.y)))) {}
 
-ViewWedge::ViewWedge(const Vec2& apex, const Vec2& direction, double fovRad, double far)
-    : m_apex(apex), m_fov(fovRad), m_far(far) {
-    m_dir = direction / std::sqrt(lengthSquared<2>(direction));
+ViewWedge::ViewWedge(const Vec2& apex, const Vec2& direction, double fovRad, double far, double slack)
+    : m_apex(apex), m_fov(fovRad), m_far(far), m_slack(slack) {
+    m_dir = safeNormalize<2>(direction);
     // fov within 1e-12 of a full turn is a full turn: the two edges coincide and the complement is empty.
     m_full = fovRad >= 2 * kPi - 1e-12;
     m_convex = fovRad < kPi;
@@ -31,24 +33,24 @@ ViewWedge::ViewWedge(const Vec2& apex, const Vec2& direction, double fovRad, dou
 
 bool ViewWedge::containsPoint(const Vec2& p) const {
     Vec2 r = p - m_apex;
-    if (!std::isinf(m_far) && lengthSquared<2>(r) > (m_far + kConservativeSlack) * (m_far + kConservativeSlack))
+    if (!std::isinf(m_far) && lengthSquared<2>(r) > (m_far + m_slack) * (m_far + m_slack))
         return false;
     if (m_full) return true;
     double s1 = glm::dot(m_n1, r), s2 = glm::dot(m_n2, r);
-    if (m_convex) return s1 >= -kConservativeSlack && s2 >= -kConservativeSlack;
-    return !(s1 < -kConservativeSlack && s2 < -kConservativeSlack);
+    if (m_convex) return s1 >= -m_slack && s2 >= -m_slack;
+    return !(s1 < -m_slack && s2 < -m_slack);
 }
 
 bool ViewWedge::withinFar(const Vec2& lo, const Vec2& hi) const {
     if (std::isinf(m_far)) return true;
     // The wedge and the disc are tested separately by touchesBox, which can only over-report.
     const Vec2 nearest = glm::clamp(m_apex, lo, hi);
-    const double r = m_far + kConservativeSlack;
+    const double r = m_far + m_slack;
     return lengthSquared<2>(nearest - m_apex) <= r * r;
 }
 
 bool ViewWedge::touchesWedge(const Vec2& lo, const Vec2& hi) const {
-    const double eps = kConservativeSlack;
+    const double eps = m_slack;
     if (m_full) return true;
     // Fast path (most voxels of a traversed ring): the box's centre lies in the wedge.
     {

@@ -80,8 +80,10 @@ struct VoxelState {
 struct CullerOptions {
     /// Use occlusion at all. false = view-frustum culling on the grid only (the VFC baseline).
     bool occlusion = true;
-    /// Extend opaque voxels into larger virtual occluders (§4.3). false = each run of opaque voxels in
-    /// one layer side is its own occluder (no L arms, no use of occluded voxels).
+    /// 2D: extend opaque voxels into larger virtual occluders (§4.3). false = each run of opaque voxels
+    /// in one layer side is its own occluder (no L arms, no use of occluded voxels).
+    /// 3D: test each voxel against the caps of shells k-1, k-2, k-4, ... (true) or only k-1 (false:
+    /// layer-by-layer propagation).
     bool occluderExtension = true;
 };
 
@@ -123,5 +125,6 @@ private:
 };
 
 using Culler2D = Culler<2>;
+using Culler3D = Culler<3>;
 
 } // namespace rgvc

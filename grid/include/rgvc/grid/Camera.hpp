@@ -30,8 +30,9 @@ using Camera3 = Camera<3>;
 template <int D> inline void validateCamera(const Camera<D>& c, const std::string& field = "camera") {
     if (!allFinite<D>(c.position)) throw InvalidInput(field + ".position", "must be finite");
     if (!allFinite<D>(c.direction)) throw InvalidInput(field + ".direction", "must be finite");
-    double len2 = lengthSquared<D>(c.direction);
-    if (!(len2 > 0) || !std::isfinite(len2)) throw InvalidInput(field + ".direction", "must be non-zero");
+    bool nonZero = false;
+    for (int i = 0; i < D; ++i) nonZero = nonZero || c.direction[i] != 0;
+    if (!nonZero) throw InvalidInput(field + ".direction", "must be non-zero");
     double maxFov = D == 2 ? 360.0 : 180.0;
     bool fovOk = std::isfinite(c.fovDeg) && c.fovDeg > 0 && (D == 2 ? c.fovDeg <= maxFov : c.fovDeg < maxFov);
     if (!fovOk)

@@ -34,9 +34,10 @@ inline std::int32_t clampIndex(double v, std::int32_t lo, std::int32_t hi) {
 
 /// Voxel index range [first, last] of voxels [i, i+1] that meet the closed interval [a, b], clipped to
 /// [0, n). Empty when first > last.
-inline void touchedRange(double a, double b, std::int32_t n, std::int32_t& first, std::int32_t& last) {
-    a -= kConservativeSlack;
-    b += kConservativeSlack;
+inline void touchedRange(double a, double b, std::int32_t n, std::int32_t& first, std::int32_t& last,
+                         double slack = kConservativeSlack) {
+    a -= slack;
+    b += slack;
     first = clampIndex(std::ceil(a) - 1, 0, n);
     last = clampIndex(std::floor(b), -1, n - 1);
     if (std::floor(b) < 0) last = -1;
@@ -47,9 +48,13 @@ inline void touchedRange(double a, double b, std::int32_t n, std::int32_t& first
 /// the world-to-voxel conversion turned into 20.0000000000004 .. 22 still covers voxels 20 and 21.
 /// Otherwise every box aligned with the grid would lose its boundary voxels to rounding; the price is
 /// that an O voxel may exceed its object by at most 1e-9 voxel.
-inline void innerRange(double a, double b, std::int32_t n, std::int32_t& first, std::int32_t& last) {
-    a -= kConservativeSlack;
-    b += kConservativeSlack;
+/// With a conversion slack above kConservativeSlack (grids far from the origin, see
+/// GridGeometry::conversionSlack) the excess shrinks the range instead.
+inline void innerRange(double a, double b, std::int32_t n, std::int32_t& first, std::int32_t& last,
+                       double slack = kConservativeSlack) {
+    const double snap = 2 * kConservativeSlack - slack; // kConservativeSlack for ordinary grids
+    a -= snap;
+    b += snap;
     first = clampIndex(std::ceil(a), 0, n);
     last = clampIndex(std::floor(b) - 1, -1, n - 1);
     if (std::floor(b) - 1 < 0) last = -1;
@@ -110,11 +115,16 @@ inline bool polygonLineExtent(const ConvexPolygon& p, double y, double& xl, doub
 /// Calls fn(IVec<D> voxel) for every in-grid voxel whose closed box the closed shape touches (I).
 /// @param local       shape in voxel units.
 /// @param resolution  [Voxels] grid size; voxels outside [0, resolution) are skipped.
+/// @param slack       [Voxel units] growth of the shape, >= kConservativeSlack; pass the grid's
+///                    conversionSlack() for shapes converted from world units.
 /// Visits each voxel once, rows in increasing order. Never allocates.
-template <int D, class Fn> void forEachTouchedVoxel(const Shape<D>& local, const IVec<D>& resolution, Fn&& fn);
+template <int D, class Fn>
+void forEachTouchedVoxel(const Shape<D>& local, const IVec<D>& resolution, Fn&& fn, double slack = kConservativeSlack);
 
-/// Calls fn(IVec<D> voxel) for every in-grid voxel whose closed box lies inside the closed shape (O).
-template <int D, class Fn> void forEachInnerVoxel(const Shape<D>& local, const IVec<D>& resolution, Fn&& fn);
+/// Calls fn(IVec<D> voxel) for every in-grid voxel whose closed box lies inside the closed shape (O),
+/// shrunk by slack - kConservativeSlack (faces within kConservativeSlack of a voxel boundary snap to it).
+template <int D, class Fn>
+void forEachInnerVoxel(const Shape<D>& local, const IVec<D>& resolution, Fn&& fn, double slack = kConservativeSlack);
 
 /// True when the closed shape (voxel units) has points outside the closed grid box [0, resolution].
 template <int D> bool extendsOutsideGrid(const Shape<D>& local, const IVec<D>& resolution) {
@@ -129,10 +139,10 @@ template <int D> bool extendsOutsideGrid(const Shape<D>& local, const IVec<D>& r
 namespace raster_detail {
 
 template <int D, bool kInner, class Fn>
-void rasterize(const Shape<D>& local, const IVec<D>& res, Fn&& fn) {
+void rasterize(const Shape<D>& local, const IVec<D>& res, Fn&& fn, double slack) {
     Box<D> bounds = boundsOf<D>(local);
     IVec<D> lo, hi;
-    for (int i = 0; i < D; ++i) touchedRange(bounds.min[i], bounds.max[i], res[i], lo[i], hi[i]);
+    for (int i = 0; i < D; ++i) touchedRange(bounds.min[i], bounds.max[i], res[i], lo[i], hi[i], slack);
     for (int i = 0; i < D; ++i)
         if (lo[i] > hi[i]) return;
 
@@ -151,7 +161,7 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, Fn&& fn) {
                 std::int32_t x0, x1;
                 IVec<D> rlo = lo, rhi = hi;
                 if constexpr (kInner) {
-                    for (int i = 0; i < D; ++i) innerRange(s.min[i], s.max[i], res[i], rlo[i], rhi[i]);
+                    for (int i = 0; i < D; ++i) innerRange(s.min[i], s.max[i], res[i], rlo[i], rhi[i], slack);
                     for (int i = 0; i < D; ++i)
                         if (rlo[i] > rhi[i]) return;
                 }
@@ -172,7 +182,7 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, Fn&& fn) {
                 forEachRow<D>(
                     lo, hi,
                     [&](const IVec<D>& row, std::int32_t& a, std::int32_t& b) {
-                        const double rr = kInner ? (r - kConservativeSlack) : (r + kConservativeSlack);
+                        const double rr = kInner ? (r - slack) : (r + slack);
                         if (rr <= 0) return false;
                         // Squares are taken after scaling by the largest length, so that a finite ball
                         // of radius 1e200 does not overflow to inf - inf = NaN.
@@ -188,9 +198,9 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, Fn&& fn) {
                         if (w2 < 0) return false;
                         const double w = scale * std::sqrt(w2);
                         if constexpr (kInner)
-                            innerRange(s.center.x - w, s.center.x + w, res.x, a, b);
+                            innerRange(s.center.x - w, s.center.x + w, res.x, a, b, slack);
                         else
-                            touchedRange(s.center.x - w, s.center.x + w, res.x, a, b);
+                            touchedRange(s.center.x - w, s.center.x + w, res.x, a, b, slack);
                         return true;
                     },
                     emit);
@@ -209,13 +219,13 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, Fn&& fn) {
                             if (xl > xr) return false;
                             // Chord endpoints carry rounding of ~1e-16 of the coordinates, far inside
                             // innerRange's 1e-9 snapping tolerance.
-                            innerRange(xl, xr, res.x, a, b);
+                            innerRange(xl, xr, res.x, a, b, slack);
                         } else {
-                            if (!polygonStripExtent(s, row.y - kConservativeSlack, row.y + 1.0 + kConservativeSlack,
+                            if (!polygonStripExtent(s, row.y - slack, row.y + 1.0 + slack,
                                                     xl, xr))
                                 return false;
-                            double slack = 1e-12 * (std::abs(xl) + std::abs(xr));
-                            touchedRange(xl - slack, xr + slack, res.x, a, b);
+                            const double rounding = 1e-12 * (std::abs(xl) + std::abs(xr));
+                            touchedRange(xl - rounding, xr + rounding, res.x, a, b, slack);
                         }
                         return true;
                     },
@@ -227,12 +237,14 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, Fn&& fn) {
 
 } // namespace raster_detail
 
-template <int D, class Fn> void forEachTouchedVoxel(const Shape<D>& local, const IVec<D>& resolution, Fn&& fn) {
-    raster_detail::rasterize<D, false>(local, resolution, fn);
+template <int D, class Fn>
+void forEachTouchedVoxel(const Shape<D>& local, const IVec<D>& resolution, Fn&& fn, double slack) {
+    raster_detail::rasterize<D, false>(local, resolution, fn, slack);
 }
 
-template <int D, class Fn> void forEachInnerVoxel(const Shape<D>& local, const IVec<D>& resolution, Fn&& fn) {
-    raster_detail::rasterize<D, true>(local, resolution, fn);
+template <int D, class Fn>
+void forEachInnerVoxel(const Shape<D>& local, const IVec<D>& resolution, Fn&& fn, double slack) {
+    raster_detail::rasterize<D, true>(local, resolution, fn, slack);
 }
 
 } // namespace rgvc

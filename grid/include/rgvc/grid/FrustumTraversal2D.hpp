@@ -68,6 +68,11 @@ public:
         const IVec2 c = glm::clamp(GridGeometry2::voxelOfLocal(wedge.apex()), IVec2(0), res - 1);
         const std::int32_t kMax = std::max(std::max(c.x, res.x - 1 - c.x), std::max(c.y, res.y - 1 - c.y));
 
+        // A camera on the grid's boundary sees along the boundary itself: such a ray grazes the outer faces
+        // of the edge voxels, so opaque voxels there do not block it, and what lies outside the grid is
+        // unknown. Early termination's argument needs every ray to cross the interior of the ring's blocked
+        // voxels, so it is off for such cameras (found by the numerical stress tests).
+        const bool cameraOnBoundary = onGridBoundary(wedge.apex(), res);
         auto isBlocker = [&](const IVec2& v) {
             if (!grid.contains(v)) return false;
             const VoxelKey key = grid.linearIndex(v);
@@ -126,7 +131,7 @@ public:
             m_active.insert(m_active.end(), m_pending.begin(), m_pending.end());
             m_pending.clear();
             if (inGrid == 0) break;
-            if (options.occlusion && open == 0) {
+            if (options.occlusion && open == 0 && !cameraOnBoundary) {
                 stats.earlyTermination = true;
                 break;
             }
@@ -135,6 +140,12 @@ public:
     }
 
 private:
+    static bool onGridBoundary(const Vec2& p, const IVec2& res) {
+        for (int a = 0; a < 2; ++a)
+            if (p[a] <= kConservativeSlack || p[a] >= res[a] - kConservativeSlack) return true;
+        return false;
+    }
+
     /// Seed of ring k on the line of sight; if rounding put it just outside the wedge, any voxel of the
     /// ring that touches the wedge will do. False: no voxel of ring k touches the wedge, and then none
     /// farther does either.

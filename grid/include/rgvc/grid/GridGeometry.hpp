@@ -12,6 +12,7 @@
 #include "rgvc/grid/Error.hpp"
 #include "rgvc/grid/Math.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <limits>
 #include <string>
@@ -68,6 +69,18 @@ public:
     Vec<D> toWorld(const Vec<D>& local) const { return m_origin + local * m_voxelSize; }
     /// [World units] lengths to voxel units.
     double toLocalLength(double worldLength) const { return worldLength * m_invVoxelSize; }
+
+    /// [Voxel units] slack that covers the rounding of the world-to-voxel conversion of a point of
+    /// magnitude up to `worldMagnitude` (and of the grid's own corners): a world coordinate M converts with
+    /// an error of about M * 2^-52 / d voxels. We allow 2e-12 * M / d (some 9000 ulps) on top of
+    /// kConservativeSlack. For a 256-voxel grid at the origin this is ~1.5e-9 voxel; for a grid at 1e6
+    /// with 1e-3 voxels it is ~2e-3 voxel: the conservative tests widen accordingly.
+    double conversionSlack(double worldMagnitude = 0) const {
+        double m = std::abs(worldMagnitude);
+        for (int i = 0; i < D; ++i)
+            m = std::max(m, std::max(std::abs(m_origin[i]), std::abs(m_origin[i] + m_voxelSize * m_resolution[i])));
+        return kConservativeSlack + 2e-12 * m * m_invVoxelSize;
+    }
 
     /// The voxel whose closed box contains the local point (floor); may lie outside the grid.
     /// Coordinates are clamped to +-2^30 so that the result is always representable.

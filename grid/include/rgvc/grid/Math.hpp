@@ -11,6 +11,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -42,6 +43,15 @@ template <int D> inline double lengthSquared(const Vec<D>& v) {
     double s = 0;
     for (int i = 0; i < D; ++i) s += v[i] * v[i];
     return s;
+}
+
+/// Unit vector along v, computed without overflow or underflow for any finite non-zero v (scales by the
+/// largest component first: |(1e300, 1e300)|^2 would overflow to infinity).
+template <int D> inline Vec<D> safeNormalize(const Vec<D>& v) {
+    double m = 0;
+    for (int i = 0; i < D; ++i) m = std::max(m, std::abs(v[i]));
+    const Vec<D> s = v / m;
+    return s / std::sqrt(lengthSquared<D>(s));
 }
 
 /// 2D cross product (z component of the 3D cross product).

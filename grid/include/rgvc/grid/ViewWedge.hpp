@@ -14,20 +14,22 @@ public:
     ViewWedge() = default;
     /// @param camera  validated camera (see validateCamera), world units.
     ViewWedge(const Camera2& camera, const GridGeometry2& grid);
-    /// Same, already in voxel units.
-    ViewWedge(const Vec2& apex, const Vec2& direction, double fovRad, double far);
+    /// Same, already in voxel units. @param slack  [Voxel units] tolerance of the touch tests.
+    ViewWedge(const Vec2& apex, const Vec2& direction, double fovRad, double far, double slack = kConservativeSlack);
 
     const Vec2& apex() const { return m_apex; }
     const Vec2& direction() const { return m_dir; }
     double fov() const { return m_fov; }
     double far() const { return m_far; }
     bool isFullCircle() const { return m_full; }
+    /// [Voxel units] kConservativeSlack, or the grid's conversionSlack() when built from world units.
+    double slack() const { return m_slack; }
     /// Unit directions of the two bounding rays (clockwise edge first).
     const Vec2& edgeCw() const { return m_edgeCw; }
     const Vec2& edgeCcw() const { return m_edgeCcw; }
 
     /// Conservative: true whenever the closed box [lo, hi] intersects the closed view region, and
-    /// possibly when it misses it by less than kConservativeSlack. Exact otherwise (separating-axis test).
+    /// possibly when it misses it by less than slack(). Exact otherwise (separating-axis test).
     bool touchesBox(const Vec2& lo, const Vec2& hi) const { return withinFar(lo, hi) && touchesWedge(lo, hi); }
     bool touchesVoxel(const IVec2& v) const { return touchesBox(Vec2(v), Vec2(v) + 1.0); }
 
@@ -43,7 +45,7 @@ public:
 
 private:
     Vec2 m_apex{0.0}, m_dir{1.0, 0.0};
-    double m_fov = 0, m_far = 0;
+    double m_fov = 0, m_far = 0, m_slack = kConservativeSlack;
     bool m_full = false;
     bool m_convex = true; // fov < pi: the wedge is the intersection of two closed half-planes
     Vec2 m_edgeCw{0.0}, m_edgeCcw{0.0};

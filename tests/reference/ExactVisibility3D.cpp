@@ -1,0 +1,925 @@
+// Sampled 3D visibility reference; see ExactVisibility3D.hpp for the definition, method and tolerances.
+#include "ExactVisibility3D.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+#include <variant>
+
+namespace rgvc::reference {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kTwoPi = 2 * kPi;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Parameters slightly outside [0, 1] are accepted when intersecting segments: an extra target only
+// costs a ray.
+constexpr double kParamSlack = 1e-9;
+// Number of seam probes around the ray (every 22.5 degrees).
+constexpr int kProbes = 16;
+
+Vec3 normalized(const Vec3& v) { return v / std::sqrt(lengthSquared<3>(v)); }
+
+// An object in camera-relative coordinates (the camera is the origin, so rays are t*u, u a unit vector).
+struct Obj {
+    bool isBall = false;
+    Vec3 center{0.0}; // ball
+    double radius = 0;
+    Vec3 lo{0.0}, hi{0.0}; // box; for a ball its bounds
+};
+
+Obj prepare(const Shape<3>& shape, const Vec3& cam) {
+    Obj o;
+    if (const auto* b = std::get_if<Ball<3>>(&shape)) {
+        o.isBall = true;
+        o.center = b->center - cam;
+        o.radius = b->radius;
+        o.lo = o.center - o.radius;
+        o.hi = o.center + o.radius;
+    } else {
+        const Box<3>& x = std::get<Box<3>>(shape);
+        o.lo = x.min - cam;
+        o.hi = x.max - cam;
+    }
+    return o;
+}
+
+struct Interval {
+    double lo = kInf, hi = -kInf;
+    bool empty() const { return !(lo <= hi); }
+};
+
+// Parameters t (whole line) where t*u lies within `off` of o: off > 0 grows the object, off < 0 keeps only
+// points deeper than -off inside it.
+Interval clip(const Obj& o, const Vec3& u, double off) {
+    if (o.isBall) {
+        double r = o.radius + off;
+        if (!(r > 0)) return {};
+        double b = glm::dot(o.center, u);
+        // r^2 - |perpendicular offset|^2: no cancellation for far spheres.
+        Vec3 perp = o.center - b * u;
+        double disc = r * r - lengthSquared<3>(perp);
+        if (disc < 0) return {};
+        double s = std::sqrt(disc);
+        return {b - s, b + s};
+    }
+    double lo = -kInf, hi = kInf;
+    for (int a = 0; a < 3; ++a) {
+        double l = o.lo[a] - off, h = o.hi[a] + off;
+        if (!(l <= h)) return {};
+        if (std::abs(u[a]) < 1e-300) {
+            if (0 < l || 0 > h) return {};
+            continue;
+        }
+        double inv = 1.0 / u[a];
+        double t1 = l * inv, t2 = h * inv;
+        if (t1 > t2) std::swap(t1, t2);
+        lo = std::max(lo, t1);
+        hi = std::min(hi, t2);
+        if (lo > hi) return {};
+    }
+    return {lo, hi};
+}
+
+bool containsPoint(const Obj& o, const Vec3& q, double off) {
+    if (o.isBall) return lengthSquared<3>(q - o.center) <= (o.radius + off) * (o.radius + off);
+    for (int a = 0; a < 3; ++a)
+        if (q[a] < o.lo[a] - off || q[a] > o.hi[a] + off) return false;
+    return true;
+}
+
+// The camera's frame and its view region, camera-relative.
+struct Frustum {
+    Vec3 f{0.0, 0.0, 1.0}, r{1.0, 0.0, 0.0}, v{0.0, 1.0, 0.0}; // forward, right, up: orthonormal
+    double tanH = 1, tanV = 1, far = kInf;
+    std::array<Vec3, 4> n;    // unit outward normals: right, left, top, bottom (planes through the apex)
+    std::array<Vec3, 4> edge; // unit edge rays
+
+    explicit Frustum(const Camera3& c) {
+        f = normalized(c.direction);
+        Vec3 up = lengthSquared<3>(c.up) > 0 ? c.up : Vec3{0.0, 1.0, 0.0};
+        Vec3 side = glm::cross(f, up);
+        if (!(lengthSquared<3>(side) > 0)) // up parallel to direction: invalid camera; any frame will do
+            side = glm::cross(f, std::abs(f.x) < 0.9 ? Vec3{1.0, 0.0, 0.0} : Vec3{0.0, 0.0, 1.0});
+        r = normalized(side);
+        v = glm::cross(r, f);
+        tanV = std::tan(0.5 * c.fovDeg * kPi / 180.0);
+        tanH = c.aspect * tanV;
+        far = c.far;
+        const double sh = std::sqrt(1 + tanH * tanH), sv = std::sqrt(1 + tanV * tanV);
+        n = {(r - tanH * f) / sh, (-r - tanH * f) / sh, (v - tanV * f) / sv, (-v - tanV * f) / sv};
+        edge = {normalized(f + tanH * r + tanV * v), normalized(f - tanH * r + tanV * v),
+                normalized(f + tanH * r - tanV * v), normalized(f - tanH * r - tanV * v)};
+    }
+
+    bool contains(const Vec3& q, double eps) const {
+        for (const Vec3& nn : n)
+            if (glm::dot(nn, q) > eps) return false;
+        return !(lengthSquared<3>(q) > (far + eps) * (far + eps));
+    }
+    // An in-plane unit vector of side plane i (v lies in the left/right planes, r in the top/bottom ones).
+    Vec3 inPlane(int i) const { return i < 2 ? v : r; }
+};
+
+// Casts rays from the camera (the origin).
+class RayCaster {
+public:
+    RayCaster(const std::vector<Obj>& objs, double far, double eps, bool fuse)
+        : m_objs(objs), m_far(far), m_eps(eps), m_fuse(fuse), m_closed(objs.size()), m_inner(objs.size()) {
+        for (std::size_t i = 0; i < objs.size(); ++i) m_all.push_back(i);
+    }
+
+    std::size_t seamBlockedCount = 0;
+
+    // A grid ray: marks every object visible along unit direction u. `cand` lists (ascending) every
+    // object the ray may come within 1e4*eps of; the others are known to miss it.
+    void castAll(const Vec3& u, const std::vector<std::size_t>& cand, std::vector<Seen3D>& seen, std::vector<Vec3>& witness) {
+        const std::size_t n = m_objs.size();
+        // Y blocks X when Y's interior starts (clamped at the camera) before X's first point; only the two
+        // smallest starts are needed to answer "any Y other than X".
+        double s1 = kInf, s2 = kInf;
+        std::size_t i1 = n;
+        for (std::size_t i : cand) {
+            m_closed[i] = clip(m_objs[i], u, m_eps);
+            if (m_closed[i].empty() || m_closed[i].hi < 0) { // misses the grown object: misses its interior
+                m_inner[i] = {};
+                continue;
+            }
+            m_inner[i] = clip(m_objs[i], u, -m_eps);
+            const Interval& in = m_inner[i];
+            if (in.lo < in.hi && in.hi > 0) {
+                double s = std::max(in.lo, 0.0);
+                if (s < s1) {
+                    s2 = s1;
+                    s1 = s;
+                    i1 = i;
+                } else if (s < s2) {
+                    s2 = s;
+                }
+            }
+        }
+        for (std::size_t x : cand) {
+            if (seen[x] != Seen3D::No) continue;
+            const Interval& c = m_closed[x];
+            if (c.empty() || c.hi < 0) continue;
+            double t = std::max(c.lo, 0.0); // first point of X on the ray; 0 when X holds the camera
+            if (t > m_far + m_eps) continue;
+            if ((x == i1 ? s2 : s1) < t) continue; // the open segment (0, t) crosses an interior
+            if (m_fuse && t > 0 && seamBlocked(x, t, u, cand)) {
+                ++seamBlockedCount;
+                continue;
+            }
+            seen[x] = Seen3D::GridRay;
+            witness[x] = t * u;
+        }
+    }
+
+    // A target ray of object x: whether it shows x; t = x's first point along u.
+    bool castAt(std::size_t x, const Vec3& u, double& t) {
+        Interval c = clip(m_objs[x], u, m_eps);
+        if (c.empty() || c.hi < 0) return false;
+        t = std::max(c.lo, 0.0);
+        if (t > m_far + m_eps) return false;
+        for (std::size_t j = 0; j < m_objs.size(); ++j) {
+            if (j == x) continue;
+            Interval in = clip(m_objs[j], u, -m_eps);
+            if (in.lo < in.hi && in.hi > 0 && std::max(in.lo, 0.0) < t) return false;
+        }
+        if (m_fuse && t > 0) {
+            for (std::size_t j = 0; j < m_objs.size(); ++j)
+                if (!m_objs[j].isBall) m_closed[j] = clip(m_objs[j], u, m_eps);
+            if (seamBlocked(x, t, u, m_all)) {
+                ++seamBlockedCount;
+                return false;
+            }
+        }
+        return true;
+    }
+
+private:
+    // The seam rule (see the header): the open segment (0, t) is not blocked by any interior; does some
+    // piece of it run inside the interior of the union of the boxes other than x? Needs m_closed of the
+    // boxes in `cand` (every object within 1e4*eps of the ray, so every one a probe can reach).
+    bool seamBlocked(std::size_t x, double t, const Vec3& u, const std::vector<std::size_t>& cand) {
+        const double minPiece = 1e3 * m_eps;
+        bool anyGrazer = false;
+        m_breaks.assign({0.0, t});
+        for (std::size_t j : cand) {
+            const Interval& c = m_closed[j];
+            if (j == x || m_objs[j].isBall || c.empty()) continue;
+            if (std::min(c.hi, t) - std::max(c.lo, 0.0) > minPiece) anyGrazer = true;
+            if (c.lo > 0 && c.lo < t) m_breaks.push_back(c.lo);
+            if (c.hi > 0 && c.hi < t) m_breaks.push_back(c.hi);
+        }
+        if (!anyGrazer) return false;
+        std::sort(m_breaks.begin(), m_breaks.end());
+        // An orthonormal basis of the plane perpendicular to u.
+        const Vec3 e1 = normalized(glm::cross(u, std::abs(u.x) < 0.6 ? Vec3{1.0, 0.0, 0.0} : Vec3{0.0, 1.0, 0.0}));
+        const Vec3 e2 = glm::cross(u, e1);
+        for (std::size_t k = 0; k + 1 < m_breaks.size(); ++k) {
+            double p = m_breaks[k], q = m_breaks[k + 1];
+            if (q - p <= minPiece) continue;
+            // Since nothing blocks, every box covering the piece only grazes it: the piece lies on that
+            // box's boundary. Pieces covered by no box are never inside the boxes' union.
+            bool onBoundary = false;
+            for (std::size_t k2 = 0; k2 < cand.size() && !onBoundary; ++k2) {
+                const std::size_t j = cand[k2];
+                onBoundary = j != x && !m_objs[j].isBall && m_closed[j].lo <= p && m_closed[j].hi >= q;
+            }
+            if (!onBoundary) continue;
+            double delta = std::max(10 * m_eps, std::min(1e4 * m_eps, 1e-3 * (q - p)));
+            Vec3 m = (0.5 * (p + q)) * u;
+            bool all = true;
+            for (int a = 0; a < kProbes && all; ++a) {
+                double ang = kTwoPi * a / kProbes;
+                Vec3 probe = m + delta * (std::cos(ang) * e1 + std::sin(ang) * e2);
+                bool in = false;
+                for (std::size_t k2 = 0; k2 < cand.size() && !in; ++k2) {
+                    const std::size_t j = cand[k2];
+                    in = j != x && !m_objs[j].isBall && containsPoint(m_objs[j], probe, m_eps);
+                }
+                all = in;
+            }
+            if (all) return true;
+        }
+        return false;
+    }
+
+    const std::vector<Obj>& m_objs;
+    double m_far, m_eps;
+    bool m_fuse;
+    std::vector<Interval> m_closed, m_inner;
+    std::vector<double> m_breaks;
+    std::vector<std::size_t> m_all; // 0 .. n-1
+};
+
+// ---------------------------------------------------------------------------------------------------
+// Target points (camera-relative). Every parameter is computed as (integer / integer) first, so that the
+// sample sets for divisions d and 2d are nested bit for bit.
+
+double frac(int k, int n) { return double(k) / double(n); }
+
+// Points on the circle centre + rho * (cos a * e1 + sin a * e2), count of them.
+void addCircle(std::vector<Vec3>& out, const Vec3& centre, double rho, const Vec3& e1, const Vec3& e2, int count) {
+    for (int j = 0; j < count; ++j) {
+        double a = kTwoPi * frac(j, count);
+        out.push_back(centre + rho * (std::cos(a) * e1 + std::sin(a) * e2));
+    }
+}
+
+// Points on segment [a, b] with parameter in [0, 1] where |p| = far.
+void addSegmentFarPoints(std::vector<Vec3>& out, const Vec3& a, const Vec3& b, double far) {
+    if (!std::isfinite(far)) return;
+    Vec3 d = b - a;
+    double qa = lengthSquared<3>(d), qb = glm::dot(a, d), qc = lengthSquared<3>(a) - far * far;
+    if (!(qa > 0)) return;
+    double disc = qb * qb - qa * qc;
+    if (disc < 0) return;
+    double s = std::sqrt(disc);
+    for (double t : {(-qb - s) / qa, (-qb + s) / qa})
+        if (t >= -kParamSlack && t <= 1 + kParamSlack) out.push_back(a + std::clamp(t, 0.0, 1.0) * d);
+}
+
+// The point of segment [a, b] on the plane n.p = 0, if it crosses it.
+void addSegmentPlanePoint(std::vector<Vec3>& out, const Vec3& a, const Vec3& b, const Vec3& n) {
+    double sa = glm::dot(n, a), sb = glm::dot(n, b);
+    if ((sa <= 0 && sb >= 0) || (sa >= 0 && sb <= 0)) {
+        if (sa == sb) return; // in the plane: its endpoints are targets already
+        out.push_back(a + (sa / (sa - sb)) * (b - a));
+    }
+}
+
+// Basis of the plane perpendicular to unit w, derived from the camera frame so that mirrored or
+// permuted scenes get mirrored or permuted samples.
+void basisAround(const Vec3& w, const Frustum& fr, Vec3& e1, Vec3& e2) {
+    Vec3 ref = std::abs(glm::dot(w, fr.v)) < 0.9 ? fr.v : fr.r;
+    e1 = normalized(glm::cross(w, ref));
+    e2 = glm::cross(w, e1);
+}
+
+void sphereTargets(const Obj& o, const Frustum& fr, int d, std::vector<Vec3>& out) {
+    const Vec3& s = o.center;
+    const double R = o.radius, L = std::sqrt(lengthSquared<3>(s));
+    if (!(L > R)) return; // holds the camera: handled before
+    const Vec3 w = -s / L; // centre -> camera
+    Vec3 e1, e2;
+    basisAround(w, fr, e1, e2);
+    out.push_back(s + R * w); // the nearest point
+    out.push_back(s);
+    // Silhouette circle, then rings on the cap facing the camera.
+    const double cosMax = R / L, sinMax = std::sqrt(std::max(0.0, 1 - cosMax * cosMax));
+    addCircle(out, s + R * cosMax * w, R * sinMax, e1, e2, 8 * d);
+    const double thetaMax = std::atan2(sinMax, cosMax);
+    for (int k = 1; k < d; ++k) {
+        double th = thetaMax * frac(k, d);
+        addCircle(out, s + R * std::cos(th) * w, R * std::sin(th), e1, e2, 4 * d);
+    }
+    // Cuts by the side planes.
+    for (int i = 0; i < 4; ++i) {
+        const Vec3& n = fr.n[i];
+        double dist = glm::dot(s, n);
+        if (std::abs(dist) > R) continue;
+        Vec3 cc = s - dist * n;
+        double rho = std::sqrt(std::max(0.0, R * R - dist * dist));
+        Vec3 a = fr.inPlane(i);
+        a = normalized(a - glm::dot(a, n) * n);
+        Vec3 b = glm::cross(n, a);
+        addCircle(out, cc, rho, a, b, 4 * d);
+        // Exact points where the cut circle meets the other side planes.
+        for (int j = 0; j < 4; ++j) {
+            if (j == i) continue;
+            double A = rho * glm::dot(fr.n[j], a), B = rho * glm::dot(fr.n[j], b), C = glm::dot(fr.n[j], cc);
+            double M = std::sqrt(A * A + B * B);
+            if (!(M > 0) || std::abs(C) > M) continue;
+            double base = std::atan2(B, A), delta = std::acos(std::clamp(-C / M, -1.0, 1.0));
+            for (double ang : {base - delta, base + delta}) out.push_back(cc + rho * (std::cos(ang) * a + std::sin(ang) * b));
+        }
+        // ... and the far circle (centre: the camera, in this plane).
+        if (std::isfinite(fr.far)) {
+            double D = std::sqrt(lengthSquared<3>(cc));
+            if (D > 0) {
+                double h = (fr.far * fr.far - rho * rho + D * D) / (2 * D), k2 = fr.far * fr.far - h * h;
+                if (k2 >= -1e-9 * fr.far * fr.far) {
+                    Vec3 dir = cc / D, side = glm::cross(n, dir);
+                    double k = std::sqrt(std::max(0.0, k2));
+                    out.push_back(h * dir + k * side);
+                    out.push_back(h * dir - k * side);
+                }
+            }
+        }
+    }
+    // Cut by the far sphere.
+    if (std::isfinite(fr.far)) {
+        const double F = fr.far;
+        double h = (F * F - R * R + L * L) / (2 * L), k2 = F * F - h * h;
+        if (k2 >= 0) addCircle(out, (-h) * w, std::sqrt(k2), e1, e2, 4 * d);
+    }
+}
+
+void boxTargets(const Obj& o, const Frustum& fr, int d, std::vector<Vec3>& out) {
+    const Vec3 lo = o.lo, hi = o.hi;
+    auto corner = [&](int bits) { return Vec3{bits & 1 ? hi.x : lo.x, bits & 2 ? hi.y : lo.y, bits & 4 ? hi.z : lo.z}; };
+    out.push_back(glm::clamp(Vec3(0.0), lo, hi)); // the nearest point
+    out.push_back(0.5 * (lo + hi));
+    for (int c = 0; c < 8; ++c) out.push_back(corner(c));
+    // Edges: along axis a, the other two axes at either bound.
+    struct Seg {
+        Vec3 a, b;
+    };
+    std::vector<Seg> edges;
+    for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 8; ++c)
+            if (!(c & (1 << a))) edges.push_back({corner(c), corner(c | (1 << a))});
+    for (const Seg& e : edges)
+        for (int k = 1; k < d; ++k) out.push_back(e.a + frac(k, d) * (e.b - e.a));
+    // Faces facing the camera (or holding it in their plane): a grid inside.
+    for (int a = 0; a < 3; ++a) {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        for (int side = 0; side < 2; ++side) {
+            double wv = side ? hi[a] : lo[a];
+            if (side ? wv > 0 : wv < 0) continue; // the camera is inside the slab's far side: back face
+            for (int i = 1; i < d; ++i)
+                for (int j = 1; j < d; ++j) {
+                    Vec3 p{0.0};
+                    p[a] = wv;
+                    p[b] = lo[b] + frac(i, d) * (hi[b] - lo[b]);
+                    p[c] = lo[c] + frac(j, d) * (hi[c] - lo[c]);
+                    out.push_back(p);
+                }
+        }
+    }
+    // Faces as quadrilaterals (4 edges each), for the plane cuts.
+    for (int i = 0; i < 4; ++i) {
+        const Vec3& n = fr.n[i];
+        for (int a = 0; a < 3; ++a) {
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            for (int side = 0; side < 2; ++side) {
+                Vec3 q[4];
+                for (int k = 0; k < 4; ++k) {
+                    q[k][a] = side ? hi[a] : lo[a];
+                    q[k][b] = (k == 1 || k == 2) ? hi[b] : lo[b];
+                    q[k][c] = (k >= 2) ? hi[c] : lo[c];
+                }
+                std::vector<Vec3> cut;
+                for (int k = 0; k < 4; ++k) addSegmentPlanePoint(cut, q[k], q[(k + 1) % 4], n);
+                for (std::size_t p = 0; p < cut.size(); ++p)
+                    for (std::size_t r = p + 1; r < cut.size(); ++r) {
+                        for (int k = 0; k <= d; ++k) out.push_back(cut[p] + frac(k, d) * (cut[r] - cut[p]));
+                        for (int j = 0; j < 4; ++j)
+                            if (j != i) addSegmentPlanePoint(out, cut[p], cut[r], fr.n[j]);
+                        addSegmentFarPoints(out, cut[p], cut[r], fr.far);
+                    }
+            }
+        }
+    }
+    // Cut by the far sphere: a circle on each face plane, kept inside the face; edges piercing it.
+    if (std::isfinite(fr.far)) {
+        const double F = fr.far;
+        for (int a = 0; a < 3; ++a) {
+            const int b = (a + 1) % 3, c = (a + 2) % 3;
+            Vec3 eb{0.0}, ec{0.0};
+            eb[b] = 1;
+            ec[c] = 1;
+            for (int side = 0; side < 2; ++side) {
+                double wv = side ? hi[a] : lo[a];
+                if (std::abs(wv) > F) continue;
+                Vec3 centre{0.0};
+                centre[a] = wv;
+                std::vector<Vec3> circle;
+                addCircle(circle, centre, std::sqrt(F * F - wv * wv), eb, ec, 4 * d);
+                for (const Vec3& p : circle)
+                    if (p[b] >= lo[b] && p[b] <= hi[b] && p[c] >= lo[c] && p[c] <= hi[c]) out.push_back(p);
+            }
+        }
+        for (const Seg& e : edges) addSegmentFarPoints(out, e.a, e.b, F);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Ray culling for the grid. Grid ray (i, j) has direction f + tan(th_i) r + tan(tv_j) v; projected onto
+// the (r, f) plane it is the 2D ray at angle th_i, so it can only pass within rho of a point at 2D
+// distance D and angle c from the apex when |th_i - c| <= asin(rho / D); the same in the (v, f) plane
+// for tv_j. With rho the object's bounding sphere grown by 2e4*eps (every probe of the seam rule is
+// within 1e4*eps of the ray) and one grid step of margin each way, an object outside its range is
+// certainly missed by the ray, so skipping it changes nothing.
+
+struct GridRange {
+    int i0, i1, j0, j1; // inclusive; i0 > i1 (or j0 > j1) when empty
+};
+
+GridRange gridRange(const Obj& o, const Frustum& fr, int g, double eps) {
+    Vec3 c;
+    double rho;
+    if (o.isBall) {
+        c = o.center;
+        rho = o.radius;
+    } else {
+        c = 0.5 * (o.lo + o.hi);
+        rho = 0.5 * std::sqrt(lengthSquared<3>(o.hi - o.lo));
+    }
+    rho = rho * (1 + 1e-9) + 2e4 * eps;
+    const double z = glm::dot(c, fr.f);
+    auto range = [&](double lateral, double tanHalf, int& k0, int& k1) {
+        const double D = std::sqrt(lateral * lateral + z * z);
+        k0 = 0;
+        k1 = g;
+        if (!(D > rho * (1 + 1e-9))) return; // the apex is (nearly) inside: every ray
+        const double centre = std::atan2(lateral, z), half = std::asin(rho / D), alpha = std::atan(tanHalf);
+        // Index of angle th: (th / alpha + 1) * g / 2.
+        const double lo = ((centre - half) / alpha + 1) * 0.5 * g, hi = ((centre + half) / alpha + 1) * 0.5 * g;
+        if (!(hi >= -1) || !(lo <= g + 1)) { // outside the fan (or NaN): empty
+            k0 = 1;
+            k1 = 0;
+            return;
+        }
+        k0 = lo <= 1 ? 0 : int(std::floor(lo)) - 1;
+        k1 = hi >= g - 1 ? g : int(std::ceil(hi)) + 1;
+    };
+    GridRange r{0, 0, 0, 0};
+    range(glm::dot(c, fr.r), fr.tanH, r.i0, r.i1);
+    range(glm::dot(c, fr.v), fr.tanV, r.j0, r.j1);
+    return r;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Critical rays. On the sphere of directions around the camera every object's outline is a curve: a
+// sphere's silhouette is a circle (the cone u.c = k), a box's outline is made of arcs of great circles
+// (the fans of its edges; all 12 are taken, a superset), and the frustum's boundary is four such arcs.
+// The part of X that is visible is a union of faces of the arrangement of these curves (up to the
+// curves where X cuts into another object, and where the far sphere cuts it, which only the targets
+// sample). A face bounded by two or more curves has a vertex: a crossing of two curves, a box corner or
+// a frustum corner; a face bounded by one curve only is bounded by X's own outline, which the targets
+// sample. Visibility is a closed condition in the ray direction (interiors are open), so the ray
+// through a vertex of a visible face of X sees X too: it grazes the curves that meet there. So a ray
+// through every crossing of every two curves finds the objects seen through pinholes and thin slivers
+// that no sampling density would be sure to hit.
+
+struct BoundCone {
+    Vec3 axis{0.0, 0.0, 1.0};
+    double cosR = -2; // u is inside when dot(u, axis) >= cosR; -2: every direction
+};
+
+// The directions of every ray that comes within 1e4*eps of the object (its bounding sphere, grown).
+BoundCone boundCone(const Obj& o, double eps) {
+    Vec3 c = o.isBall ? o.center : 0.5 * (o.lo + o.hi);
+    double rho = o.isBall ? o.radius : 0.5 * std::sqrt(lengthSquared<3>(o.hi - o.lo));
+    rho = rho * (1 + 1e-9) + 2e4 * eps;
+    const double D = std::sqrt(lengthSquared<3>(c));
+    BoundCone b;
+    if (!(D > rho * (1 + 1e-9))) return b;
+    b.axis = c / D;
+    const double sinR = rho / D;
+    b.cosR = std::sqrt(std::max(0.0, 1 - sinR * sinR)) - 1e-12;
+    return b;
+}
+
+bool coneHas(const BoundCone& b, const Vec3& u) { return b.cosR < -1 || glm::dot(u, b.axis) >= b.cosR; }
+
+bool conesOverlap(const BoundCone& a, const BoundCone& b) {
+    if (a.cosR < -1 || b.cosR < -1) return true;
+    const double between = std::acos(std::clamp(glm::dot(a.axis, b.axis), -1.0, 1.0));
+    return between <= std::acos(std::clamp(a.cosR, -1.0, 1.0)) + std::acos(std::clamp(b.cosR, -1.0, 1.0)) + 1e-9;
+}
+
+struct Arc { // the great-circle arc from direction a to direction b (less than half a turn); n = a x b, unit
+    Vec3 a, b, n;
+};
+struct Outline {
+    bool hasCircle = false;
+    Vec3 axis{0.0}; // circle: dot(u, axis) = k
+    double k = 0;
+    std::vector<Arc> arcs;
+    BoundCone bound;
+};
+
+void addArc(std::vector<Arc>& arcs, const Vec3& p, const Vec3& q) {
+    const Vec3 c = glm::cross(p, q);
+    const double c2 = lengthSquared<3>(c);
+    if (!(c2 > 1e-24 * lengthSquared<3>(p) * lengthSquared<3>(q))) return; // the camera is on the edge's line
+    arcs.push_back({normalized(p), normalized(q), c / std::sqrt(c2)});
+}
+
+Outline outlineOf(const Obj& o, double eps) {
+    Outline out;
+    out.bound = boundCone(o, eps);
+    if (o.isBall) {
+        const double L = std::sqrt(lengthSquared<3>(o.center));
+        if (L > o.radius) {
+            out.hasCircle = true;
+            out.axis = o.center / L;
+            const double sr = o.radius / L;
+            out.k = std::sqrt(std::max(0.0, 1 - sr * sr));
+        }
+        return out;
+    }
+    auto corner = [&](int bits) { return Vec3{bits & 1 ? o.hi.x : o.lo.x, bits & 2 ? o.hi.y : o.lo.y, bits & 4 ? o.hi.z : o.lo.z}; };
+    for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 8; ++c)
+            if (!(c & (1 << a))) addArc(out.arcs, corner(c), corner(c | (1 << a)));
+    return out;
+}
+
+bool onArc(const Arc& arc, const Vec3& u) {
+    const double tol = 1e-12;
+    return glm::dot(glm::cross(arc.a, u), arc.n) >= -tol && glm::dot(glm::cross(u, arc.b), arc.n) >= -tol &&
+           glm::dot(u, arc.a + arc.b) > 0;
+}
+
+// Directions on both circles dot(u, c1) = k1 and dot(u, c2) = k2.
+void circleCircle(const Vec3& c1, double k1, const Vec3& c2, double k2, std::vector<Vec3>& out) {
+    const double g = glm::dot(c1, c2), det = 1 - g * g;
+    if (!(det > 1e-15)) return; // (nearly) the same axis: no isolated crossing
+    const double al = (k1 - g * k2) / det, be = (k2 - g * k1) / det;
+    const Vec3 w = glm::cross(c1, c2); // |w|^2 = det
+    double ga2 = (1 - (al * al + be * be + 2 * al * be * g)) / det;
+    if (ga2 < -1e-12) return;
+    const double ga = std::sqrt(std::max(0.0, ga2));
+    out.push_back(normalized(al * c1 + be * c2 + ga * w));
+    if (ga > 0) out.push_back(normalized(al * c1 + be * c2 - ga * w));
+}
+
+// Directions on the circle dot(u, c) = k and on the arc.
+void circleArc(const Vec3& c, double k, const Arc& arc, std::vector<Vec3>& out) {
+    const double s = glm::dot(c, arc.n);
+    Vec3 e1 = c - s * arc.n;
+    const double m = std::sqrt(lengthSquared<3>(e1));
+    if (!(m > 1e-12)) return;
+    e1 /= m;
+    const Vec3 e2 = glm::cross(arc.n, e1);
+    const double cph = k / m;
+    if (cph > 1 + 1e-12 || cph < -1 - 1e-12) return;
+    const double ph = std::acos(std::clamp(cph, -1.0, 1.0));
+    for (double a : {ph, -ph}) {
+        Vec3 u = std::cos(a) * e1 + std::sin(a) * e2;
+        if (onArc(arc, u)) out.push_back(u);
+    }
+}
+
+void arcArc(const Arc& p, const Arc& q, std::vector<Vec3>& out) {
+    const Vec3 w = glm::cross(p.n, q.n);
+    const double w2 = lengthSquared<3>(w);
+    if (!(w2 > 1e-30)) return; // the same great circle: the endpoints are vertices already
+    const Vec3 u = w / std::sqrt(w2);
+    for (const Vec3& v : {u, -u})
+        if (onArc(p, v) && onArc(q, v)) out.push_back(v);
+}
+
+void crossings(const Outline& A, const Outline& B, std::vector<Vec3>& out) {
+    if (A.hasCircle && B.hasCircle) circleCircle(A.axis, A.k, B.axis, B.k, out);
+    if (A.hasCircle)
+        for (const Arc& b : B.arcs) circleArc(A.axis, A.k, b, out);
+    if (B.hasCircle)
+        for (const Arc& a : A.arcs) circleArc(B.axis, B.k, a, out);
+    for (const Arc& a : A.arcs)
+        for (const Arc& b : B.arcs) arcArc(a, b, out);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Exact (up to eps) view-region tests.
+
+// Sutherland-Hodgman: keeps the part of the polygon with dot(n, p) <= e.
+std::vector<Vec3> clipPolygon(const std::vector<Vec3>& poly, const Vec3& n, double e) {
+    std::vector<Vec3> out;
+    const std::size_t m = poly.size();
+    for (std::size_t k = 0; k < m; ++k) {
+        const Vec3& a = poly[k];
+        const Vec3& b = poly[(k + 1) % m];
+        double sa = glm::dot(n, a) - e, sb = glm::dot(n, b) - e;
+        if (sa <= 0) out.push_back(a);
+        if ((sa < 0 && sb > 0) || (sa > 0 && sb < 0)) out.push_back(a + (sa / (sa - sb)) * (b - a));
+    }
+    return out;
+}
+
+double pointSegmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
+    Vec3 d = b - a;
+    double len2 = lengthSquared<3>(d);
+    double t = len2 > 0 ? std::clamp(glm::dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
+    return std::sqrt(lengthSquared<3>(p - (a + t * d)));
+}
+
+// Distance from the origin to a convex polygon lying in the plane x[axis] = const.
+double originPolygonDistance(const std::vector<Vec3>& poly, int axis) {
+    const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+    const std::size_t m = poly.size();
+    if (m >= 3) {
+        // The origin's projection (0, 0) in (b, c): inside when on one side of every edge.
+        bool pos = true, neg = true;
+        for (std::size_t k = 0; k < m; ++k) {
+            const Vec3& p = poly[k];
+            const Vec3& q = poly[(k + 1) % m];
+            double cr = (q[b] - p[b]) * (0 - p[c]) - (q[c] - p[c]) * (0 - p[b]);
+            pos = pos && cr >= 0;
+            neg = neg && cr <= 0;
+        }
+        if (pos || neg) return std::abs(poly[0][axis]);
+    }
+    double best = kInf;
+    for (std::size_t k = 0; k < m; ++k) best = std::min(best, pointSegmentDistance(Vec3(0.0), poly[k], poly[(k + 1) % m]));
+    return best;
+}
+
+bool sphereTouchesView(const Obj& o, const Frustum& fr, double eps) {
+    const Vec3& q = o.center;
+    // Projection onto the frustum cone K: q itself when inside, else the nearest of the candidates that
+    // lie in K (the apex, the projections onto the edge rays and onto the faces).
+    Vec3 best{0.0};
+    double bestD2 = kInf;
+    auto consider = [&](const Vec3& p) {
+        double d2 = lengthSquared<3>(q - p);
+        if (d2 < bestD2) {
+            bestD2 = d2;
+            best = p;
+        }
+    };
+    bool inside = true;
+    for (const Vec3& n : fr.n) inside = inside && glm::dot(n, q) <= 0;
+    if (inside) {
+        consider(q);
+    } else {
+        consider(Vec3(0.0));
+        for (const Vec3& e : fr.edge) {
+            double t = glm::dot(q, e);
+            if (t > 0) consider(t * e);
+        }
+        for (int i = 0; i < 4; ++i) {
+            Vec3 p = q - glm::dot(q, fr.n[i]) * fr.n[i];
+            bool ok = true;
+            for (int j = 0; j < 4; ++j) ok = ok && (j == i || glm::dot(fr.n[j], p) <= eps);
+            if (ok) consider(p);
+        }
+    }
+    // The projection onto K cut by the far ball is the projection onto K scaled back to the far sphere.
+    double len = std::sqrt(lengthSquared<3>(best));
+    if (len > fr.far) best *= fr.far / len;
+    double r = o.radius + eps;
+    return lengthSquared<3>(q - best) <= r * r;
+}
+
+bool boxTouchesView(const Obj& o, const Frustum& fr, double eps) {
+    const Vec3 lo = o.lo - eps, hi = o.hi + eps;
+    if (lo.x <= 0 && hi.x >= 0 && lo.y <= 0 && hi.y >= 0 && lo.z <= 0 && hi.z >= 0) return true; // holds the apex
+    double best = kInf;
+    for (int a = 0; a < 3; ++a) {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        for (int side = 0; side < 2; ++side) {
+            std::vector<Vec3> poly(4);
+            for (int k = 0; k < 4; ++k) {
+                poly[std::size_t(k)][a] = side ? hi[a] : lo[a];
+                poly[std::size_t(k)][b] = (k == 1 || k == 2) ? hi[b] : lo[b];
+                poly[std::size_t(k)][c] = (k >= 2) ? hi[c] : lo[c];
+            }
+            for (const Vec3& n : fr.n) {
+                poly = clipPolygon(poly, n, eps);
+                if (poly.empty()) break;
+            }
+            if (poly.empty()) continue;
+            if (!std::isfinite(fr.far)) return true;
+            best = std::min(best, originPolygonDistance(poly, a));
+        }
+    }
+    return best < kInf && best <= fr.far + eps; // (with no face left best stays infinite)
+}
+
+double resolveEps(double eps, const std::vector<Shape<3>>& objects, const Camera3& camera) {
+    return eps > 0 ? eps : sceneEpsilon3D(objects, camera);
+}
+
+} // namespace
+
+double sceneEpsilon3D(const std::vector<Shape<3>>& objects, const Camera3& camera) {
+    double scale = 0;
+    auto grow = [&](const Vec3& p) { scale = std::max({scale, std::abs(p.x), std::abs(p.y), std::abs(p.z)}); };
+    grow(camera.position);
+    for (const Shape<3>& s : objects) {
+        Box<3> b = boundsOf<3>(s);
+        grow(b.min);
+        grow(b.max);
+        if (const auto* ball = std::get_if<Ball<3>>(&s)) scale = std::max(scale, ball->radius);
+    }
+    return 1e-12 * (scale > 0 ? scale : 1.0);
+}
+
+bool pointInView3D(const Camera3& camera, const Vec3& p, double eps) {
+    return Frustum(camera).contains(p - camera.position, std::max(eps, 0.0));
+}
+
+bool touchesViewRegion3D(const Shape<3>& shape, const Camera3& camera, double eps) {
+    if (!(eps > 0)) eps = sceneEpsilon3D({shape}, camera);
+    const Frustum fr(camera);
+    const Obj o = prepare(shape, camera.position);
+    return o.isBall ? sphereTouchesView(o, fr, eps) : boxTouchesView(o, fr, eps);
+}
+
+std::vector<bool> inViewRegion3D(const std::vector<Shape<3>>& objects, const Camera3& camera) {
+    const double eps = sceneEpsilon3D(objects, camera);
+    std::vector<bool> out(objects.size());
+    for (std::size_t i = 0; i < objects.size(); ++i) out[i] = touchesViewRegion3D(objects[i], camera, eps);
+    return out;
+}
+
+std::vector<bool> visible3D(const std::vector<Shape<3>>& objects, const Camera3& camera,
+                            const Visibility3DOptions& options, Visibility3DStats* stats) {
+    const double eps = resolveEps(options.eps, objects, camera);
+    const Frustum fr(camera);
+    std::vector<Obj> objs;
+    objs.reserve(objects.size());
+    for (const Shape<3>& s : objects) objs.push_back(prepare(s, camera.position));
+    const std::size_t n = objs.size();
+
+    std::vector<Seen3D> seen(n, Seen3D::No);
+    std::vector<Vec3> witness(n, Vec3(0.0));
+    // Objects whose bounding sphere misses the view region can never be seen (they still block, as far as
+    // the ray tests go): they do not keep the search going.
+    std::vector<char> possible(n);
+    for (std::size_t x = 0; x < n; ++x) {
+        Obj bs;
+        bs.isBall = true;
+        bs.center = objs[x].isBall ? objs[x].center : 0.5 * (objs[x].lo + objs[x].hi);
+        bs.radius = objs[x].isBall ? objs[x].radius : 0.5 * std::sqrt(lengthSquared<3>(objs[x].hi - objs[x].lo));
+        bs.radius *= 1 + 1e-9;
+        possible[x] = sphereTouchesView(bs, fr, eps);
+    }
+    auto countRemaining = [&] {
+        std::size_t r = 0;
+        for (std::size_t x = 0; x < n; ++x) r += seen[x] == Seen3D::No && possible[x];
+        return r;
+    };
+    std::size_t remaining = countRemaining();
+    // 1. Objects holding the camera: the apex is in the view region and the segment to it is empty.
+    for (std::size_t x = 0; x < n; ++x)
+        if (containsPoint(objs[x], Vec3(0.0), eps)) {
+            seen[x] = Seen3D::ContainsCamera;
+            remaining -= possible[x] ? 1 : 0;
+        }
+
+    RayCaster caster(objs, fr.far, eps, options.fuseSeams);
+    std::size_t gridRays = 0, targets = 0, targetRays = 0;
+
+    // 2. The ray grid, uniform in angle over the frustum; the boundary rays use the exact tangents.
+    const int g = options.gridDivisions;
+    if (g > 0 && remaining > 0) {
+        std::vector<double> ta(std::size_t(g) + 1), tb(std::size_t(g) + 1);
+        const double ah = std::atan(fr.tanH), av = std::atan(fr.tanV);
+        for (int i = 0; i <= g; ++i) {
+            double s = 2 * frac(i, g) - 1;
+            ta[std::size_t(i)] = i == 0 ? -fr.tanH : i == g ? fr.tanH : std::tan(ah * s);
+            tb[std::size_t(i)] = i == 0 ? -fr.tanV : i == g ? fr.tanV : std::tan(av * s);
+        }
+        // Candidate objects per ray (see GridRange): per column i, those whose i-range covers it; per ray,
+        // those of them whose j-range covers j.
+        std::vector<GridRange> ranges;
+        for (const Obj& o : objs) ranges.push_back(options.cullRays ? gridRange(o, fr, g, eps) : GridRange{0, g, 0, g});
+        std::vector<std::size_t> column, cand;
+        for (int i = 0; i <= g && remaining > 0; ++i) {
+            column.clear();
+            for (std::size_t x = 0; x < n; ++x)
+                if (ranges[x].i0 <= i && i <= ranges[x].i1) column.push_back(x);
+            if (column.empty()) continue; // no object near these rays
+            for (int j = 0; j <= g && remaining > 0; ++j) {
+                cand.clear();
+                for (std::size_t x : column)
+                    if (ranges[x].j0 <= j && j <= ranges[x].j1) cand.push_back(x);
+                if (cand.empty()) continue;
+                Vec3 u = normalized(fr.f + ta[std::size_t(i)] * fr.r + tb[std::size_t(j)] * fr.v);
+                caster.castAll(u, cand, seen, witness);
+                ++gridRays;
+            }
+            remaining = countRemaining();
+        }
+    }
+
+    // 3. Rays aimed at target points on each object not yet seen.
+    const int d = options.targetDivisions;
+    if (d > 0) {
+        std::vector<Vec3> pts;
+        for (std::size_t x = 0; x < n; ++x) {
+            if (seen[x] != Seen3D::No || !possible[x]) continue;
+            pts.clear();
+            if (objs[x].isBall) sphereTargets(objs[x], fr, d, pts);
+            else boxTargets(objs[x], fr, d, pts);
+            targets += pts.size();
+            for (const Vec3& p : pts) {
+                double len2 = lengthSquared<3>(p);
+                if (!(len2 > 0) || !fr.contains(p, eps)) continue;
+                Vec3 u = p / std::sqrt(len2);
+                double t = 0;
+                ++targetRays;
+                if (caster.castAt(x, u, t)) {
+                    seen[x] = Seen3D::TargetRay;
+                    witness[x] = t * u;
+                    break;
+                }
+            }
+        }
+    }
+
+    // 4. Critical rays: through every crossing of two outlines (and the frustum's), and every box corner.
+    remaining = countRemaining();
+    std::size_t criticalRays = 0;
+    if (options.criticalRays && remaining > 0) {
+        std::vector<Outline> outlines;
+        for (const Obj& o : objs) outlines.push_back(outlineOf(o, eps));
+        Outline frustum; // every direction; its four side arcs between the edge rays
+        addArc(frustum.arcs, fr.edge[0], fr.edge[2]);
+        addArc(frustum.arcs, fr.edge[1], fr.edge[3]);
+        addArc(frustum.arcs, fr.edge[0], fr.edge[1]);
+        addArc(frustum.arcs, fr.edge[2], fr.edge[3]);
+        std::vector<Vec3> dirs(fr.edge.begin(), fr.edge.end()); // the frustum's corners
+        for (std::size_t x = 0; x < n; ++x) {
+            // The outline of an object outside the view region lies outside the frustum.
+            if (!possible[x]) continue;
+            crossings(outlines[x], frustum, dirs);
+            for (std::size_t y = x + 1; y < n; ++y)
+                if (possible[y] && conesOverlap(outlines[x].bound, outlines[y].bound)) crossings(outlines[x], outlines[y], dirs);
+            if (!objs[x].isBall)
+                for (int c = 0; c < 8; ++c) {
+                    Vec3 p{c & 1 ? objs[x].hi.x : objs[x].lo.x, c & 2 ? objs[x].hi.y : objs[x].lo.y, c & 4 ? objs[x].hi.z : objs[x].lo.z};
+                    if (lengthSquared<3>(p) > 0) dirs.push_back(normalized(p));
+                }
+        }
+        std::vector<std::size_t> cand;
+        for (const Vec3& u : dirs) {
+            if (remaining == 0) break;
+            bool inView = true; // the direction in the frustum (loosened by 1e-13 radians)
+            for (const Vec3& nn : fr.n) inView = inView && glm::dot(nn, u) <= 1e-13;
+            if (!inView) continue;
+            cand.clear();
+            bool useful = false;
+            for (std::size_t x = 0; x < n; ++x)
+                if (coneHas(outlines[x].bound, u)) {
+                    cand.push_back(x);
+                    useful = useful || (seen[x] == Seen3D::No && possible[x]);
+                }
+            if (!useful) continue;
+            std::vector<Seen3D> before = seen;
+            caster.castAll(u, cand, seen, witness);
+            ++criticalRays;
+            for (std::size_t x : cand)
+                if (before[x] == Seen3D::No && seen[x] != Seen3D::No) {
+                    seen[x] = Seen3D::CriticalRay;
+                    remaining -= possible[x] ? 1 : 0;
+                }
+        }
+    }
+
+    if (stats) {
+        stats->criticalRays = criticalRays;
+        stats->gridRays = gridRays;
+        stats->targets = targets;
+        stats->targetRays = targetRays;
+        stats->seamBlocked = caster.seamBlockedCount;
+        stats->eps = eps;
+        stats->seen = seen;
+        stats->witness.clear();
+        for (const Vec3& w : witness) stats->witness.push_back(w + camera.position);
+    }
+    std::vector<bool> out(n);
+    for (std::size_t x = 0; x < n; ++x) out[x] = seen[x] != Seen3D::No;
+    return out;
+}
+
+} // namespace rgvc::reference
