@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
-"""Writes the generated 2D example scenes of scenes/ (format: /work/shared/scene-format.md).
+"""Writes the generated example scenes of scenes/ (format: /work/shared/scene-format.md).
 
 Deterministic: a fixed seed per scene and numbers rounded to 3 decimals, so running it again
 reproduces the committed files byte for byte. scenes/small-2d.json is hand-written, not generated.
 
-    python3 scripts/make_scenes.py            # rewrites scenes/fig1-2d.json and scenes/walk-2d.json
+    python3 scripts/make_scenes.py            # rewrites fig1-2d.json, walk-2d.json and spheres-3d.json
     python3 scripts/make_scenes.py --check    # exit 1 if the committed files differ from the output
 """
 import json
@@ -118,10 +118,31 @@ def walk():
             "camera": camera, "camera_path": path, "objects": objects}
 
 
+def spheres3d():
+    """The paper's section 6 scene, scaled down to a file worth reading: 1,000 spheres of varying size
+    in clusters, most of them moving, on a 50 x 30 x 50 grid; the camera looks along +z into it."""
+    rng = random.Random(6006)
+    res = [50, 30, 50]
+    clusters = [(rng.uniform(8, 42), rng.uniform(6, 24), rng.uniform(14, 46)) for _ in range(12)]
+    objects = []
+    for i in range(1000):
+        cx, cy, cz = clusters[i % len(clusters)]
+        r = rng.uniform(1.0, 2.6)
+        c = [min(max(v + rng.gauss(0, 5), r), hi - r) for v, hi in zip((cx, cy, cz), res)]
+        o = {"id": i + 1, "shape": "sphere", "center": [r3(v) for v in c], "radius": r3(r)}
+        if rng.random() < 0.8:
+            v = [rng.uniform(-0.3, 0.3) for _ in range(3)]
+            o["velocity"] = [r3(x) for x in v]
+        objects.append(o)
+    camera = {"position": [25.3, 15.2, 1.7], "direction": [0, 0, 1], "fov_deg": 60, "aspect": 1.5}
+    return {"dimensions": 3, "grid": {"origin": [0, 0, 0], "voxel_size": 1.0, "resolution": res},
+            "camera": camera, "objects": objects}
+
+
 def main():
     check = "--check" in sys.argv[1:]
     stale = []
-    for name, build in (("fig1-2d.json", fig1), ("walk-2d.json", walk)):
+    for name, build in (("fig1-2d.json", fig1), ("walk-2d.json", walk), ("spheres-3d.json", spheres3d)):
         text = dump(build())
         target = SCENES / name
         if check:
