@@ -11,6 +11,7 @@ packages=(
   libopenvdb-dev libboost-iostreams-dev  # sparse grid backend (RGVC_WITH_OPENVDB); its CMake module needs boost-iostreams
   libosmesa6-dev libglfw3-dev     # headless GL 4.5 core (llvmpipe) and windows (RGVC_WITH_GL)
   catch2                          # unit tests (v2.13)
+  clang libclang-rt-14-dev        # libFuzzer targets (RGVC_BUILD_FUZZERS) and their sanitizer runtimes
   libtbb-dev                      # OpenVDB's threading; parallel benchmarks
   nlohmann-json3-dev              # scene files
   libpng-dev                      # pictures

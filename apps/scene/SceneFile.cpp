@@ -427,6 +427,9 @@ template <int D> SceneData<D> readScene(const Reader& r, const json& root) {
 } // namespace
 
 Scene parseScene(const std::string& jsonText, const std::string& nameForErrors) {
+    // nlohmann's parser stops at a NUL byte as at the end of input; JSON text never contains one.
+    if (const std::size_t nul = jsonText.find('\0'); nul != std::string::npos)
+        throw SceneError(nameForErrors, "byte " + std::to_string(nul), "invalid JSON: a NUL byte");
     json root;
     try {
         root = json::parse(jsonText, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/false);

@@ -121,11 +121,25 @@ public:
                 stats.opaqueMet = true;
                 if (options.occlusion && !storage.used(key, stamp)) extend(grid, storage, c, v, stamp, options, isBlocker, stats);
             };
-            // Counter-clockwise from the seed, then clockwise from just before it.
-            for (std::int64_t p = p0; walked < perimeter && wedge.voxelTouchesWedge(c + ringOffset(k, p)); ++p, ++walked)
-                process(p);
-            for (std::int64_t p = p0 - 1; walked < perimeter && wedge.voxelTouchesWedge(c + ringOffset(k, p)); --p, ++walked)
-                process(p);
+            // Counter-clockwise from the seed, then clockwise from just before it. Stretches of the ring
+            // outside the grid are jumped over: the arc is contiguous, so if the position after a jump
+            // still touches the wedge, so did every position jumped over.
+            const RingSpans spans = ringSpansInGrid(c, k, res);
+            for (int dir : {1, -1}) {
+                for (std::int64_t p = dir > 0 ? p0 : p0 - 1; walked < perimeter;) {
+                    const IVec2 v = c + ringOffset(k, p);
+                    if (!wedge.voxelTouchesWedge(v)) break;
+                    if (!grid.contains(v)) {
+                        const std::int64_t jump = spans.distanceToNext(p, dir, perimeter);
+                        p += dir * jump;
+                        walked += jump;
+                        continue;
+                    }
+                    process(p);
+                    p += dir;
+                    ++walked;
+                }
+            }
 
             stats.layers = std::uint32_t(k + 1);
             m_active.insert(m_active.end(), m_pending.begin(), m_pending.end());
@@ -140,6 +154,44 @@ public:
     }
 
 private:
+    /// Perimeter-index intervals of ring k that lie in the grid: at most one per side.
+    struct RingSpans {
+        std::int64_t lo[4], hi[4]; // empty when lo > hi
+        /// Steps from p (outside the grid) to the nearest in-grid position in direction dir (+1 or -1);
+        /// `perimeter` when there is none.
+        std::int64_t distanceToNext(std::int64_t p, int dir, std::int64_t perimeter) const {
+            p %= perimeter;
+            if (p < 0) p += perimeter;
+            std::int64_t best = perimeter;
+            for (int s = 0; s < 4; ++s) {
+                if (lo[s] > hi[s]) continue;
+                std::int64_t d = dir > 0 ? lo[s] - p : p - hi[s];
+                d %= perimeter;
+                if (d <= 0) d += perimeter;
+                best = std::min(best, d);
+            }
+            return best;
+        }
+    };
+
+    static RingSpans ringSpansInGrid(const IVec2& c, std::int32_t k, const IVec2& res) {
+        // Side s holds perimeter indices [2ks, 2k(s+1)); t is the index within the side (ChessRing2D).
+        const std::int64_t K = k, twoK = 2 * K;
+        auto clip = [&](bool fixedInside, std::int64_t tLo, std::int64_t tHi, std::int64_t base, std::int64_t& lo,
+                        std::int64_t& hi) {
+            tLo = std::max<std::int64_t>(tLo, 0);
+            tHi = std::min<std::int64_t>(tHi, twoK - 1);
+            lo = fixedInside && tLo <= tHi ? base + tLo : 1;
+            hi = fixedInside && tLo <= tHi ? base + tHi : 0;
+        };
+        RingSpans r;
+        clip(c.x + K < res.x, K - c.y, res.y - 1 - c.y + K, 0, r.lo[0], r.hi[0]);               // (k, -k + t)
+        clip(c.y + K < res.y, c.x + K - (res.x - 1), c.x + K, twoK, r.lo[1], r.hi[1]);         // (k - t, k)
+        clip(c.x - K >= 0, c.y + K - (res.y - 1), c.y + K, 2 * twoK, r.lo[2], r.hi[2]);        // (-k, k - t)
+        clip(c.y - K >= 0, K - c.x, res.x - 1 - c.x + K, 3 * twoK, r.lo[3], r.hi[3]);          // (-k + t, -k)
+        return r;
+    }
+
     static bool onGridBoundary(const Vec2& p, const IVec2& res) {
         for (int a = 0; a < 2; ++a)
             if (p[a] <= kConservativeSlack || p[a] >= res[a] - kConservativeSlack) return true;

@@ -52,6 +52,8 @@ public:
                 throw InvalidInput("grid.voxel_size", "too small or too large for the origin's magnitude");
         }
         m_invVoxelSize = 1.0 / voxelSize;
+        if (!std::isfinite(m_invVoxelSize)) // a subnormal size: world-to-voxel conversion would overflow
+            throw InvalidInput("grid.voxel_size", "too small: 1 / voxel_size overflows");
     }
 
     const Vec<D>& origin() const { return m_origin; }
@@ -71,15 +73,15 @@ public:
     double toLocalLength(double worldLength) const { return worldLength * m_invVoxelSize; }
 
     /// [Voxel units] slack that covers the rounding of the world-to-voxel conversion of a point of
-    /// magnitude up to `worldMagnitude` (and of the grid's own corners): a world coordinate M converts with
-    /// an error of about M * 2^-52 / d voxels. We allow 2e-12 * M / d (some 9000 ulps) on top of
-    /// kConservativeSlack. For a 256-voxel grid at the origin this is ~1.5e-9 voxel; for a grid at 1e6
-    /// with 1e-3 voxels it is ~2e-3 voxel: the conservative tests widen accordingly.
+    /// magnitude up to `worldMagnitude` (and of the grid's own corners): (p - origin) / d is off by at most
+    /// a few ulps of max(|p|, |origin|) / d. We allow 16 ulps (16 * 2^-52 * M / d) on top of
+    /// kConservativeSlack: ~1e-9 voxel for any grid of ordinary size, 4e-6 voxel for a grid at 1e6 with
+    /// 1e-3 voxels. The conservative tests widen accordingly.
     double conversionSlack(double worldMagnitude = 0) const {
         double m = std::abs(worldMagnitude);
         for (int i = 0; i < D; ++i)
             m = std::max(m, std::max(std::abs(m_origin[i]), std::abs(m_origin[i] + m_voxelSize * m_resolution[i])));
-        return kConservativeSlack + 2e-12 * m * m_invVoxelSize;
+        return kConservativeSlack + 16 * 2.220446049250313e-16 * m * m_invVoxelSize;
     }
 
     /// The voxel whose closed box contains the local point (floor); may lie outside the grid.

@@ -80,9 +80,9 @@ template <int D> inline Shape<D> toLocal(const Shape<D>& s, const GridGeometry<D
             } else if constexpr (std::is_same_v<T, Box<D>>) {
                 return Box<D>{grid.toLocal(x.min), grid.toLocal(x.max)};
             } else {
-                ConvexPolygon r;
+                T r; // ConvexPolygon; spelled T so that the 3D instantiation of this branch still parses
                 r.points.reserve(x.points.size());
-                for (const Vec2& q : x.points) r.points.push_back(grid.toLocal(q));
+                for (const auto& q : x.points) r.points.push_back(grid.toLocal(q));
                 return r;
             }
         },
@@ -121,23 +121,26 @@ template <int D> inline void validateShape(Shape<D>& s, const std::string& field
                 double area = signedArea(x.points);
                 if (!(std::abs(area) > 0) || !std::isfinite(area))
                     throw InvalidInput(field + ".points", "polygon has zero area");
-                if (area < 0) std::reverse(x.points.begin(), x.points.end());
+                // Checked on a counter-clockwise copy: a rejected polygon goes back to the caller untouched.
+                std::vector<Vec2> ccw = x.points;
+                if (area < 0) std::reverse(ccw.begin(), ccw.end());
                 for (std::size_t i = 0; i < n; ++i) {
-                    const Vec2& a = x.points[i];
-                    const Vec2& b = x.points[(i + 1) % n];
-                    const Vec2& c = x.points[(i + 2) % n];
+                    const Vec2& a = ccw[i];
+                    const Vec2& b = ccw[(i + 1) % n];
+                    const Vec2& c = ccw[(i + 2) % n];
                     if (cross2(b - a, c - b) < 0) throw InvalidInput(field + ".points", "polygon is not convex");
                 }
                 // A convex polygon winds around once: the turning angles sum to 2*pi. A star-shaped
                 // self-intersecting "polygon" has all left turns too but winds more than once.
                 double turning = 0;
                 for (std::size_t i = 0; i < n; ++i) {
-                    Vec2 e0 = x.points[(i + 1) % n] - x.points[i];
-                    Vec2 e1 = x.points[(i + 2) % n] - x.points[(i + 1) % n];
+                    Vec2 e0 = ccw[(i + 1) % n] - ccw[i];
+                    Vec2 e1 = ccw[(i + 2) % n] - ccw[(i + 1) % n];
                     turning += std::atan2(cross2(e0, e1), glm::dot(e0, e1));
                 }
                 if (turning > 2 * 3.141592653589793 + 1e-6)
                     throw InvalidInput(field + ".points", "polygon is self-intersecting");
+                x.points = std::move(ccw);
             }
         },
         s);

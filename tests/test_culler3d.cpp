@@ -1,0 +1,736 @@
+// Culler3D against the sampled 3D reference: thousands of random scenes and cameras, zero misses allowed.
+//
+// A miss (an object the reference sees that is absent from the PVS) is the one thing a conservative
+// culler must never do, so every case REQUIREs none; overestimation is allowed and only measured and
+// printed. Every failure prints the seed, the camera's index for that seed, the camera, the scene as a
+// scene-format JSON file in the temp directory (replayable with `rgvc cull`), the missed ids, the point
+// where the reference saw each one and the culler's state of the voxel holding that point (and of the
+// camera's voxel).
+//
+// Reference density: visible3D at its defaults (gridDivisions 256, targetDivisions 16, critical rays on)
+// for every frame; the reference can only under-report (see ExactVisibility3D.hpp), so denser is
+// stricter. The whole file runs in well under a minute in Release on two cores.
+#include "ExactVisibility3D.hpp"
+#include "RandomScenes3D.hpp"
+
+#include "rgvc/dynamics/Culler.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+using namespace rgvc;
+namespace ref = rgvc::reference;
+namespace sd = rgvc::reference::scene3d_detail;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The reference's sampling density for every frame of this file (see the header comment).
+ref::Visibility3DOptions referenceOptions() { return ref::Visibility3DOptions{}; }
+
+// Figures of one test case, printed at its end.
+struct Tally {
+    std::size_t frames = 0, framesWithVisible = 0, misses = 0, failedFrames = 0, outsideFallbacks = 0;
+    double sumPvsRatio = 0, sumVfcRatio = 0;
+    // The same over frames with the camera in the grid (no fallback): the grid algorithm's own figure,
+    // not diluted by the camera-outside fallback, which reports the whole view-region set.
+    std::size_t framesInGrid = 0;
+    double sumPvsRatioInGrid = 0, sumVfcRatioInGrid = 0;
+    std::size_t sumPvs = 0, sumVisible = 0, sumVfc = 0;
+    std::size_t earlyTerminations = 0, framesWithOcclusion = 0;
+    double cullMs = 0, referenceMs = 0;
+
+    void print(const std::string& name) const {
+        std::ostringstream os;
+        os.precision(4);
+        os << "[culler3d] " << name << ": " << frames << " scene/camera pairs, " << misses << " misses; "
+           << "mean |PVS|/|visible| = " << (framesWithVisible ? sumPvsRatio / framesWithVisible : 0.0)
+           << ", mean |VFC|/|visible| = " << (framesWithVisible ? sumVfcRatio / framesWithVisible : 0.0)
+           << " (over " << framesWithVisible << " frames with something visible; pooled "
+           << (sumVisible ? double(sumPvs) / double(sumVisible) : 0.0) << " and "
+           << (sumVisible ? double(sumVfc) / double(sumVisible) : 0.0) << "); cameras in the grid only: "
+           << (framesInGrid ? sumPvsRatioInGrid / framesInGrid : 0.0) << " and "
+           << (framesInGrid ? sumVfcRatioInGrid / framesInGrid : 0.0) << " over " << framesInGrid
+           << " frames; camera-outside fallbacks " << outsideFallbacks << ", frames with occlusion work "
+           << framesWithOcclusion << ", early terminations " << earlyTerminations << "; cull " << cullMs
+           << " ms, reference " << referenceMs << " ms in all\n";
+        std::cout << os.str() << std::flush;
+    }
+};
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool contains(const std::vector<ObjectId>& sorted, ObjectId id) { return std::binary_search(sorted.begin(), sorted.end(), id); }
+
+std::string describeVoxel(const Culler3D& culler, const Vec3& world) {
+    IVec3 v = culler.grid().voxelOf(world);
+    VoxelState s = culler.voxelState(v);
+    std::ostringstream os;
+    os << "voxel (" << v.x << ", " << v.y << ", " << v.z << ")";
+    if (!s.inGrid) return os.str() + " outside the grid";
+    os << " opaque=" << s.opaque << " occluded=" << s.occluded << " visited=" << s.visited
+       << " occluder=" << s.occluder << " hasIds=" << s.hasIds;
+    return os.str();
+}
+
+std::string describeCamera(const Culler3D& culler, const Camera3& cam) {
+    std::ostringstream os;
+    os.precision(17);
+    const Vec3 l = culler.grid().toLocal(cam.position);
+    os << "camera position (" << cam.position.x << ", " << cam.position.y << ", " << cam.position.z << ") = voxel units ("
+       << l.x << ", " << l.y << ", " << l.z << "), direction (" << cam.direction.x << ", " << cam.direction.y << ", "
+       << cam.direction.z << "), up (" << cam.up.x << ", " << cam.up.y << ", " << cam.up.z << "), fov " << cam.fovDeg
+       << ", aspect " << cam.aspect << ", far " << cam.far << "; camera " << describeVoxel(culler, cam.position);
+    return os.str();
+}
+
+// Writes a failing scene to the temp directory; returns its path, or "" when it cannot.
+std::string saveScene(const std::string& json, const std::string& origin) {
+    std::string name = "rgvc-culler3d-";
+    for (char ch : origin) {
+        const char c = std::isalnum(static_cast<unsigned char>(ch)) ? ch : '-';
+        if (c != '-' || name.back() != '-') name += c;
+    }
+    std::error_code ec;
+    std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
+    if (ec) return "";
+    std::filesystem::path p = dir / (name + ".json");
+    std::ofstream f(p);
+    f << json;
+    return f ? p.string() : "";
+}
+
+const char* seenName(ref::Seen3D s) {
+    switch (s) {
+    case ref::Seen3D::No: return "not seen";
+    case ref::Seen3D::ContainsCamera: return "contains the camera";
+    case ref::Seen3D::GridRay: return "grid ray";
+    case ref::Seen3D::TargetRay: return "target ray";
+    case ref::Seen3D::CriticalRay: return "critical ray";
+    }
+    return "?";
+}
+
+// Culls `cam` on a culler holding exactly `objects` and compares with the reference. Adds to the tally;
+// reports (INFO + FAIL_CHECK) the first few failing frames of a case in full.
+void checkFrame(Culler3D& culler, const std::vector<ObjectDesc<3>>& objects, const Camera3& cam,
+                const std::string& origin, Tally& tally) {
+    const std::vector<Shape<3>> shapes = ref::shapesOf(objects);
+    auto t0 = std::chrono::steady_clock::now();
+    ref::Visibility3DStats stats;
+    const std::vector<bool> visible = ref::visible3D(shapes, cam, referenceOptions(), &stats);
+    const std::vector<bool> inView = ref::inViewRegion3D(shapes, cam);
+    tally.referenceMs += msSince(t0);
+
+    t0 = std::chrono::steady_clock::now();
+    const CullResult& result = culler.cull(cam);
+    tally.cullMs += msSince(t0);
+    const std::vector<ObjectId>& pvs = result.pvs;
+
+    std::size_t nVisible = 0, nVfc = 0;
+    std::vector<std::size_t> missed;
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+        nVisible += visible[i];
+        nVfc += inView[i];
+        if (visible[i] && !contains(pvs, objects[i].id)) missed.push_back(i);
+    }
+    ++tally.frames;
+    tally.outsideFallbacks += result.stats.fallback == Fallback::CameraOutsideGrid;
+    tally.earlyTerminations += result.stats.earlyTermination;
+    tally.framesWithOcclusion += !result.stats.occlusionSkipped;
+    if (nVisible > 0) {
+        ++tally.framesWithVisible;
+        tally.sumPvsRatio += double(pvs.size()) / double(nVisible);
+        tally.sumVfcRatio += double(nVfc) / double(nVisible);
+        tally.sumPvs += pvs.size();
+        tally.sumVisible += nVisible;
+        tally.sumVfc += nVfc;
+        if (result.stats.fallback == Fallback::None) {
+            ++tally.framesInGrid;
+            tally.sumPvsRatioInGrid += double(pvs.size()) / double(nVisible);
+            tally.sumVfcRatioInGrid += double(nVfc) / double(nVisible);
+        }
+    }
+    const bool sortedUnique = std::adjacent_find(pvs.begin(), pvs.end(), std::greater_equal<ObjectId>()) == pvs.end();
+    if (missed.empty() && sortedUnique) return;
+
+    tally.misses += missed.size();
+    if (++tally.failedFrames > 3) return; // the count says the rest; three full reports are plenty
+    std::ostringstream os;
+    os << origin << ": " << missed.size() << " visible object(s) missing from the PVS (" << pvs.size()
+       << " reported, " << nVisible << " visible, " << nVfc << " in the view region, fallback "
+       << toString(result.stats.fallback) << ", layers " << result.stats.layers << ", early termination "
+       << result.stats.earlyTermination << ")\n";
+    for (std::size_t i : missed) {
+        const Vec3 w = stats.witness[i];
+        const Vec3 wl = culler.grid().toLocal(w);
+        os.precision(17);
+        os << "  missed id " << objects[i].id << " (object index " << i << ", " << seenName(stats.seen[i])
+           << "), seen at world (" << w.x << ", " << w.y << ", " << w.z << ") = voxel units (" << wl.x << ", " << wl.y
+           << ", " << wl.z << "), " << describeVoxel(culler, w) << "\n";
+    }
+    os << describeCamera(culler, cam) << "\n";
+    // Catch wraps long messages at 80 columns, which breaks numbers apart; the replayable file is written
+    // whole (and the JSON goes into the message only when the file cannot be written).
+    const std::string json = ref::toJson(culler.grid(), objects, cam);
+    const std::string path = saveScene(json, origin);
+    if (!path.empty()) os << "scene written to " << path << " (replay: rgvc cull " << path << ")";
+    else os << "scene:\n" << json;
+    INFO(os.str());
+    if (!sortedUnique) FAIL_CHECK("the PVS is not sorted ascending without duplicates");
+    if (!missed.empty()) FAIL_CHECK("culler missed a visible object");
+}
+
+// Runs `scenes` seeds from `firstSeed`, `camerasPerScene` cameras each (the scene's own, then more drawn
+// from the same seed), one culler per scene.
+Tally runRandomScenes(const std::string& name, std::uint64_t firstSeed, int scenes, int camerasPerScene,
+                      const ref::SceneOptions3D& opt, const CullerOptions& cullerOptions = {}) {
+    Tally tally;
+    for (std::uint64_t seed = firstSeed; seed < firstSeed + std::uint64_t(scenes); ++seed) {
+        ref::Scene3D s = ref::randomScene3D(seed, opt);
+        Culler3D culler(s.grid, cullerOptions);
+        for (const ObjectDesc<3>& o : s.objects) culler.addObject(o);
+        REQUIRE(culler.objectCount() == s.objects.size());
+        std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ull);
+        for (int c = 0; c < camerasPerScene; ++c) {
+            Camera3 cam = c == 0 ? s.camera : ref::randomCamera3D(rng, s.grid, s.objects, s.snapped, opt);
+            checkFrame(culler, s.objects, cam, name + ", seed " + std::to_string(seed) + ", camera " + std::to_string(c), tally);
+        }
+    }
+    tally.print(name);
+    return tally;
+}
+
+Camera3 makeCamera(Vec3 pos, Vec3 dir, double fov, double far = kInf, double aspect = 1, Vec3 up = Vec3(0.0)) {
+    Camera3 c;
+    c.position = pos;
+    c.direction = dir;
+    c.fovDeg = fov;
+    c.far = far;
+    c.aspect = aspect;
+    c.up = up;
+    return c;
+}
+
+std::vector<ObjectDesc<3>> describe(const std::vector<Shape<3>>& shapes) {
+    std::vector<ObjectDesc<3>> objects;
+    for (std::size_t i = 0; i < shapes.size(); ++i) {
+        ObjectDesc<3> o;
+        o.id = i + 1;
+        o.shape = shapes[i];
+        o.isStatic = true;
+        objects.push_back(o);
+    }
+    return objects;
+}
+
+// One hand-made scene on `grid`; ids are 1, 2, ... in order.
+Tally checkHandScene(const std::string& name, const std::vector<Shape<3>>& shapes, const Camera3& cam,
+                     const GridGeometry3& grid = GridGeometry3({0, 0, 0}, 1.0, {32, 32, 32})) {
+    Culler3D culler(grid);
+    const std::vector<ObjectDesc<3>> objects = describe(shapes);
+    for (const ObjectDesc<3>& o : objects) culler.addObject(o);
+    Tally tally;
+    checkFrame(culler, objects, cam, name, tally);
+    return tally;
+}
+
+// A wall of unit boxes x in [x0, x0 + thickness], y in [y0, y1], z in [z0, z1] (integers), each box
+// sharing its faces with its neighbours; `holes` lists (y, z) lower corners left out.
+std::vector<Shape<3>> boxWall(double x0, double thickness, int y0, int y1, int z0, int z1,
+                              const std::vector<std::pair<int, int>>& holes = {}) {
+    std::vector<Shape<3>> out;
+    for (int y = y0; y < y1; ++y)
+        for (int z = z0; z < z1; ++z) {
+            if (std::find(holes.begin(), holes.end(), std::make_pair(y, z)) != holes.end()) continue;
+            out.push_back(Box<3>{{x0, double(y), double(z)}, {x0 + thickness, double(y + 1), double(z + 1)}});
+        }
+    return out;
+}
+
+} // namespace
+
+TEST_CASE("culler3d: occluder fusion: a wall of small boxes sharing faces hides a sphere behind it", "[culler3d]") {
+    // 16 x 16 unit boxes, 1 voxel thick, on voxel faces: no single box hides the sphere, their union does.
+    GridGeometry3 grid({0, 0, 0}, 1.0, {32, 32, 32});
+    std::vector<Shape<3>> shapes = boxWall(12, 1, 8, 24, 8, 24);
+    const std::size_t wallCount = shapes.size();
+    shapes.push_back(Ball<3>{{20, 16, 16}, 1.5}); // the hidden sphere
+    shapes.push_back(Ball<3>{{8, 16, 16}, 0.5});  // in front of the wall: visible
+    const std::vector<ObjectDesc<3>> objects = describe(shapes);
+    const ObjectId hiddenId = objects[wallCount].id, frontId = objects[wallCount + 1].id;
+
+    const std::vector<Camera3> cams = {
+        makeCamera({5.5, 16.5, 16.5}, {1, 0, 0}, 60),        // voxel centre, along +x
+        makeCamera({5, 16, 16}, {1, 0, 0}, 60),              // voxel corner, on the seams' planes
+        makeCamera({5.25, 15.75, 16.4}, {1, 0.05, -0.03}, 45, kInf, 16.0 / 9.0),
+        makeCamera({6, 12.5, 16}, {1, 0.3, 0}, 30),          // voxel edge, slanted view
+        makeCamera({4.5, 16, 16.5}, {1, 0, 0}, 60, kInf, 1, {0, 0, 1}), // on a voxel face, rolled
+    };
+    for (std::size_t c = 0; c < cams.size(); ++c) {
+        const std::vector<bool> vis = ref::visible3D(shapes, cams[c], referenceOptions());
+        INFO("camera " << c);
+        REQUIRE_FALSE(vis[wallCount]); // the reference agrees the sphere is hidden (seam fusion)
+        for (bool occlusion : {true, false})
+            for (bool extension : {true, false}) {
+                Culler3D culler(grid, CullerOptions{occlusion, extension});
+                for (const ObjectDesc<3>& o : objects) culler.addObject(o);
+                Tally tally;
+                checkFrame(culler, objects, cams[c], "box wall, camera " + std::to_string(c), tally);
+                REQUIRE(tally.misses == 0);
+                const CullResult& r = culler.lastResult();
+                INFO("occlusion " << occlusion << ", extension " << extension << ", |PVS| " << r.pvs.size());
+                if (vis[wallCount + 1]) CHECK(contains(r.pvs, frontId));
+                if (occlusion) {
+                    CHECK_FALSE(contains(r.pvs, hiddenId)); // fused across the boxes
+                    CHECK((r.stats.voxelsOccluded > 0 || r.stats.earlyTermination));
+                } else {
+                    CHECK(contains(r.pvs, hiddenId)); // VFC: in the view region
+                }
+            }
+    }
+}
+
+TEST_CASE("culler3d: occluder fusion: a wall of tightly packed spheres hides a sphere behind it", "[culler3d]") {
+    // Spheres of radius 2.5 on a 2-voxel lattice centred on voxel centres: every voxel of the plane
+    // x in [12, 13] lies wholly inside one of them (its farthest corner from the nearest centre is at
+    // most sqrt(0.75 + 2) < 2.5 away), so the plane is opaque although no single sphere covers the view.
+    GridGeometry3 grid({0, 0, 0}, 1.0, {32, 32, 32});
+    std::vector<Shape<3>> shapes;
+    for (int y = 4; y <= 28; y += 2)
+        for (int z = 4; z <= 28; z += 2) shapes.push_back(Ball<3>{{12.5, y + 0.5, z + 0.5}, 2.5});
+    const std::size_t wallCount = shapes.size();
+    shapes.push_back(Ball<3>{{24, 16, 16}, 1.5});         // hidden, far behind the wall
+    shapes.push_back(Box<3>{{25, 10, 10}, {27, 20, 20}}); // hidden box, far behind the wall
+    shapes.push_back(Ball<3>{{5, 16, 16}, 0.5});          // in front: visible
+    shapes.push_back(Ball<3>{{18, 16.5, 16}, 1});         // hidden, just behind the wall
+    const std::vector<ObjectDesc<3>> objects = describe(shapes);
+
+    const std::vector<Camera3> cams = {
+        makeCamera({3.5, 16.5, 16.5}, {1, 0, 0}, 60),
+        makeCamera({3, 16, 16}, {1, 0, 0}, 60),
+        makeCamera({2.2, 13.7, 18.1}, {1, 0.1, -0.1}, 50, kInf, 4.0 / 3.0),
+        makeCamera({3, 16, 16.5}, {1, 0, 0}, 90),
+    };
+    for (std::size_t c = 0; c < cams.size(); ++c) {
+        const std::vector<bool> vis = ref::visible3D(shapes, cams[c], referenceOptions());
+        INFO("camera " << c);
+        REQUIRE_FALSE(vis[wallCount]);
+        REQUIRE_FALSE(vis[wallCount + 1]);
+        REQUIRE_FALSE(vis[wallCount + 3]);
+        for (bool extension : {true, false}) {
+            Culler3D culler(grid, CullerOptions{true, extension});
+            for (const ObjectDesc<3>& o : objects) culler.addObject(o);
+            // The plane is opaque.
+            for (int y = 6; y < 27; ++y)
+                for (int z = 6; z < 27; ++z) REQUIRE(culler.voxelState({12, y, z}).opaque);
+            Tally tally;
+            checkFrame(culler, objects, cams[c], "sphere wall, camera " + std::to_string(c), tally);
+            REQUIRE(tally.misses == 0);
+            const CullResult& r = culler.lastResult();
+            INFO("extension " << extension << ", |PVS| " << r.pvs.size());
+            if (vis[wallCount + 2]) CHECK(contains(r.pvs, objects[wallCount + 2].id));
+            CHECK_FALSE(contains(r.pvs, objects[wallCount + 3].id));
+            // Far behind the wall: layer-by-layer caps (no occluder extension) erode the hidden region by
+            // about a voxel per side and shell (FrustumTraversal3D.hpp), which loses these for the wide
+            // fov 90 view; the exponential caps must keep them.
+            if (extension || cams[c].fovDeg < 90) {
+                CHECK_FALSE(contains(r.pvs, objects[wallCount].id));
+                CHECK_FALSE(contains(r.pvs, objects[wallCount + 1].id));
+            }
+        }
+    }
+}
+
+TEST_CASE("culler3d: hand-made degenerate scenes", "[culler3d]") {
+    SECTION("pinhole: a wall of boxes with one missing box, a tiny sphere behind it") {
+        std::vector<Shape<3>> s = boxWall(12, 1, 8, 24, 8, 24, {{15, 15}});
+        s.push_back(Ball<3>{{20, 15.5, 15.5}, 0.05});
+        const Camera3 cam = makeCamera({4, 15.5, 15.5}, {1, 0, 0}, 60);
+        REQUIRE(ref::visible3D(s, cam).back());
+        REQUIRE(checkHandScene("pinhole", s, cam).misses == 0);
+    }
+    SECTION("a slit along a grid plane, camera in that plane") {
+        std::vector<Shape<3>> s = boxWall(12, 1, 8, 24, 8, 24, {{15, 8}, {15, 9}, {15, 10}, {15, 11}, {15, 12}, {15, 13}});
+        s.push_back(Ball<3>{{22, 16, 11}, 0.3}); // touches the plane y = 16
+        const Camera3 cam = makeCamera({4, 16, 11}, {1, 0, 0}, 60);
+        REQUIRE(checkHandScene("slit", s, cam).misses == 0);
+    }
+    SECTION("grazing ray along a box face to a tangent sphere") {
+        std::vector<Shape<3>> s = {Box<3>{{9, 10, 10}, {10, 16, 20}}, Ball<3>{{14, 17, 15}, 1}};
+        const Camera3 cam = makeCamera({4, 16, 15}, {1, 0, 0}, 60);
+        REQUIRE(ref::visible3D(s, cam)[1]);
+        REQUIRE(checkHandScene("grazing", s, cam).misses == 0);
+    }
+    SECTION("camera inside a sphere, inside a box, on a box face, in a small object's voxel") {
+        std::vector<Shape<3>> s = {Box<3>{{10, 10, 10}, {20, 20, 20}}, Ball<3>{{15, 15, 15}, 0.25},
+                                   Ball<3>{{25, 15, 15}, 1}, Ball<3>{{5.5, 5.5, 5.5}, 0.1}};
+        REQUIRE(checkHandScene("inside box", s, makeCamera({15, 15, 15}, {1, 0, 0}, 90)).misses == 0);
+        REQUIRE(checkHandScene("inside small sphere", s, makeCamera({15.1, 15, 15}, {-1, 1, 1}, 90)).misses == 0);
+        REQUIRE(checkHandScene("on box face", s, makeCamera({20, 15, 15}, {1, 0, 0}, 90)).misses == 0);
+        REQUIRE(checkHandScene("on box corner", s, makeCamera({20, 20, 20}, {1, 1, 1}, 120)).misses == 0);
+        REQUIRE(checkHandScene("in tiny sphere's voxel", s, makeCamera({5.9, 5.1, 5.2}, {1, 1, 1}, 30)).misses == 0);
+    }
+    SECTION("a huge sphere holding the whole grid and the camera") {
+        std::vector<Shape<3>> s = {Ball<3>{{16, 16, 16}, 100}, Ball<3>{{20, 16, 16}, 1}, Box<3>{{2, 2, 2}, {3, 3, 3}}};
+        REQUIRE(checkHandScene("huge sphere", s, makeCamera({10.5, 16, 16}, {1, 0, 0}, 60)).misses == 0);
+    }
+    SECTION("tiny objects on voxel corners, edges and faces") {
+        std::vector<Shape<3>> s;
+        for (int i = 0; i < 6; ++i)
+            for (int j = 0; j < 6; ++j) {
+                const Vec3 c{20.0 + i, 10.0 + j + (i % 2) * 0.5, 14.0 + (j % 3) * 0.5};
+                s.push_back(i % 3 == 2 ? Shape<3>(Box<3>{c, c + 1e-3}) : Shape<3>(Ball<3>{c, 1e-3}));
+            }
+        for (const Camera3& cam : {makeCamera({4, 12, 15}, {1, 0, 0}, 90), makeCamera({4.5, 12, 15}, {1, 0.1, 0}, 60),
+                                   makeCamera({18, 8, 12}, {1, 1, 1}, 90), makeCamera({27, 12.5, 15}, {-1, 0, 0}, 120)})
+            REQUIRE(checkHandScene("tiny", s, cam).misses == 0);
+    }
+    SECTION("far limits that cut the shells' corners") {
+        GridGeometry3 big({0, 0, 0}, 1.0, {64, 64, 64});
+        std::vector<Shape<3>> s = {Ball<3>{{38.5, 15.5, 15.5}, 0.5}, Ball<3>{{15.5, 38.5, 15.5}, 0.5},
+                                   Ball<3>{{15.5, 15.5, 38.5}, 0.5}, Ball<3>{{30, 30, 30}, 0.5}, Ball<3>{{41, 10.5, 10.5}, 0.5}};
+        const Camera3 cam = makeCamera({10.5, 10.5, 10.5}, {1, 1, 1}, 120, 30);
+        REQUIRE(checkHandScene("far", s, cam, big).misses == 0);
+        const Camera3 cam2 = makeCamera({10, 10, 10}, {1, 0, 0}, 90, 30.5);
+        REQUIRE(checkHandScene("far 2", s, cam2, big).misses == 0);
+    }
+    SECTION("non-unit voxels far from the origin") {
+        GridGeometry3 g({1000.25, -500.5, 77}, 0.25, {40, 24, 40});
+        std::vector<Shape<3>> s;
+        for (int y = 4; y < 20; ++y)
+            for (int z = 4; z < 36; ++z)
+                s.push_back(Box<3>{g.toWorld({20, double(y), double(z)}), g.toWorld({21, double(y + 1), double(z + 1)})});
+        s.push_back(Ball<3>{g.toWorld({30, 12, 20}), 0.5});
+        s.push_back(Ball<3>{g.toWorld({15, 12, 20}), 0.1});
+        for (const Camera3& cam : {makeCamera(g.toWorld({5, 12, 20}), {1, 0, 0}, 60), makeCamera(g.toWorld({5, 12.5, 20}), {1, 0.2, 0.1}, 60),
+                                   makeCamera(g.toWorld({19, 11, 18}), {1, 0, 0}, 150)})
+            REQUIRE(checkHandScene("offset grid", s, cam, g).misses == 0);
+    }
+}
+
+TEST_CASE("culler3d: no misses on a systematic sweep of degenerate cameras", "[culler3d]") {
+    // A wall of unit boxes with a pinhole and a slit, objects behind and in front; cameras on voxel
+    // corners, edges, faces and centres, looking along axes, grid-plane diagonals, space diagonals and at
+    // the pinhole, with fovs from 1 to 170 degrees.
+    GridGeometry3 grid({0, 0, 0}, 1.0, {24, 24, 24});
+    std::vector<Shape<3>> shapes = boxWall(12, 1, 4, 20, 4, 20, {{11, 11}, {7, 14}, {8, 14}, {9, 14}, {10, 14}});
+    shapes.push_back(Ball<3>{{18, 11.5, 11.5}, 0.05});  // behind the pinhole
+    shapes.push_back(Ball<3>{{17, 9, 14.5}, 0.3});      // behind the slit
+    shapes.push_back(Ball<3>{{19, 16, 7}, 1.5});        // hidden for most cameras
+    shapes.push_back(Box<3>{{15, 2, 2}, {16, 3, 22}});  // below the wall's edge
+    shapes.push_back(Ball<3>{{8, 8, 8}, 0.5});          // in front
+    shapes.push_back(Box<3>{{6, 11, 11}, {6.5, 11.5, 11.5}});
+    const std::vector<ObjectDesc<3>> objects = describe(shapes);
+    Culler3D culler(grid);
+    Culler3D layerByLayer(grid, CullerOptions{true, false});
+    for (const ObjectDesc<3>& o : objects) {
+        culler.addObject(o);
+        layerByLayer.addObject(o);
+    }
+    std::mt19937_64 rng(4242);
+    const std::vector<Vec3> dirs = {{1, 0, 0},  {0, 1, 0},   {0, 0, -1}, {1, 1, 0},  {1, 0, 1},  {1, -1, 0},
+                                    {0, 1, 1},  {1, 1, 1},   {1, -1, -1}, {-1, 1, 1}, {1, 1e-9, 0}, {0, 0, 0}};
+    const std::vector<double> fovs = {1, 30, 60, 90, 120, 170};
+    Tally tally, tallyLayer;
+    int frame = 0;
+    for (int kind = 0; kind < 5; ++kind)
+        for (int p = 0; p < 6; ++p) {
+            Vec3 local{sd::uniform(rng, 2, 11.5), sd::uniform(rng, 3, 21), sd::uniform(rng, 3, 21)};
+            const int axis = sd::uniformInt(rng, 0, 2);
+            if (kind == 0) local = glm::floor(local); // corner
+            else if (kind == 1) {                     // edge
+                Vec3 f = glm::floor(local);
+                f[axis] = local[axis];
+                local = f;
+            } else if (kind == 2) local[axis] = std::floor(local[axis]); // face
+            else if (kind == 3) local = glm::floor(local) + 0.5;         // centre
+            // kind 4: anywhere
+            for (std::size_t d = 0; d < dirs.size(); ++d) {
+                Vec3 dir = dirs[d];
+                if (lengthSquared<3>(dir) == 0) dir = Vec3{18, 11.5, 11.5} - local; // at the pinhole
+                if (lengthSquared<3>(dir) == 0) continue;
+                Camera3 cam = makeCamera(grid.toWorld(local), dir, fovs[std::size_t(frame) % fovs.size()]);
+                cam.up = sd::pickUp(rng, dir, true);
+                const std::string name = "sweep, kind " + std::to_string(kind) + ", position " + std::to_string(p) +
+                                         ", direction " + std::to_string(d);
+                checkFrame(culler, objects, cam, name, tally);
+                checkFrame(layerByLayer, objects, cam, name + ", layer by layer", tallyLayer);
+                ++frame;
+            }
+        }
+    tally.print("sweep");
+    tallyLayer.print("sweep, no occluder extension");
+    REQUIRE(tally.frames == 360);
+    REQUIRE(tally.misses == 0);
+    REQUIRE(tallyLayer.misses == 0);
+}
+
+TEST_CASE("culler3d: no misses on mixed random scenes", "[culler3d]") {
+    Tally t = runRandomScenes("mixed", 1, 500, 3, ref::SceneOptions3D{});
+    REQUIRE(t.frames == 1500);
+    REQUIRE(t.misses == 0);
+}
+
+TEST_CASE("culler3d: no misses with every coordinate on voxel faces and corners", "[culler3d]") {
+    // Exact degeneracies: object faces on voxel faces, cameras on voxel corners, rays along faces and
+    // seams between boxes sharing faces.
+    ref::SceneOptions3D opt;
+    opt.snapProbability = 1.0;
+    Tally t = runRandomScenes("snapped", 100001, 200, 3, opt);
+    REQUIRE(t.misses == 0);
+}
+
+TEST_CASE("culler3d: no misses on small crowded grids", "[culler3d]") {
+    ref::SceneOptions3D opt;
+    opt.minResolution = 8;
+    opt.maxResolution = 16;
+    opt.minObjects = 30;
+    opt.maxObjects = 80;
+    Tally t = runRandomScenes("small crowded", 200001, 120, 3, opt);
+    REQUIRE(t.framesWithOcclusion > 0);
+    REQUIRE(t.misses == 0);
+}
+
+TEST_CASE("culler3d: no misses with cameras outside the grid and far limits", "[culler3d]") {
+    ref::SceneOptions3D opt;
+    opt.cameraOutsideProbability = 0.5;
+    opt.farProbability = 0.6;
+    Tally t = runRandomScenes("outside and far", 300001, 100, 3, opt);
+    REQUIRE(t.outsideFallbacks > 0);
+    REQUIRE(t.misses == 0);
+}
+
+TEST_CASE("culler3d: no misses without occluder extension (layer-by-layer caps)", "[culler3d]") {
+    CullerOptions o;
+    o.occluderExtension = false;
+    Tally t = runRandomScenes("no occluder extension", 400001, 100, 2, ref::SceneOptions3D{}, o);
+    ref::SceneOptions3D crowded;
+    crowded.minResolution = 8;
+    crowded.maxResolution = 16;
+    crowded.minObjects = 30;
+    Tally t2 = runRandomScenes("no occluder extension, crowded", 410001, 60, 2, crowded, o);
+    REQUIRE(t.misses == 0);
+    REQUIRE(t2.misses == 0);
+}
+
+TEST_CASE("culler3d: updateObject and removeObject keep the PVS conservative", "[culler3d]") {
+    // Objects move (some while hidden), change shape, disappear and appear over several frames; every
+    // frame is checked against the reference on the current set of objects.
+    Tally tally;
+    for (std::uint64_t seed = 500001; seed < 500101; ++seed) {
+        ref::SceneOptions3D opt;
+        if (seed % 2) { // crowded: more occlusion to get wrong
+            opt.minResolution = 8;
+            opt.maxResolution = 20;
+            opt.minObjects = 20;
+        }
+        ref::Scene3D s = ref::randomScene3D(seed, opt);
+        std::mt19937_64 rng(seed * 31 + 7);
+        Culler3D culler(s.grid);
+        for (const ObjectDesc<3>& o : s.objects) culler.addObject(o);
+        std::vector<ObjectDesc<3>> objects = s.objects;
+        ObjectId nextId = 1000000;
+        checkFrame(culler, objects, s.camera, "update, seed " + std::to_string(seed) + ", frame 0", tally);
+        for (int frame = 1; frame <= 4; ++frame) {
+            const double d = s.grid.voxelSize();
+            for (std::size_t i = 0; i < objects.size(); ++i) {
+                if (sd::chance(rng, 0.4)) { // move by up to 3 voxels
+                    Vec3 t{sd::uniform(rng, -3, 3) * d, sd::uniform(rng, -3, 3) * d, sd::uniform(rng, -3, 3) * d};
+                    objects[i].shape = translated<3>(objects[i].shape, t);
+                    culler.updateObject(objects[i].id, objects[i].shape);
+                } else if (sd::chance(rng, 0.05)) { // reshape: take another scene's object
+                    ref::Scene3D other = ref::randomScene3D(rng());
+                    const Shape<3>& sh = other.objects[rng() % other.objects.size()].shape;
+                    Box<3> b = boundsOf<3>(sh), mine = boundsOf<3>(objects[i].shape);
+                    objects[i].shape = translated<3>(sh, 0.5 * (mine.min + mine.max - b.min - b.max));
+                    culler.updateObject(objects[i].id, objects[i].shape);
+                }
+            }
+            if (objects.size() > 1 && sd::chance(rng, 0.7)) { // remove one
+                std::size_t k = rng() % objects.size();
+                culler.removeObject(objects[k].id);
+                REQUIRE_FALSE(culler.hasObject(objects[k].id));
+                objects.erase(objects.begin() + std::ptrdiff_t(k));
+            }
+            if (sd::chance(rng, 0.5)) { // add one from another scene
+                ref::Scene3D other = ref::randomScene3D(rng());
+                ObjectDesc<3> o = other.objects.front();
+                o.id = nextId++;
+                // Moved to a random place of this grid (the other scene's grid lies elsewhere), scaled
+                // to this grid's voxels by taking its size in the other grid's voxel units.
+                Box<3> b = boundsOf<3>(o.shape);
+                const double scale = s.grid.voxelSize() / other.grid.voxelSize();
+                const Vec3 target = s.grid.toWorld(Vec3{sd::uniform(rng, 0, s.grid.resolution().x),
+                                                        sd::uniform(rng, 0, s.grid.resolution().y),
+                                                        sd::uniform(rng, 0, s.grid.resolution().z)});
+                const Vec3 half = 0.5 * (b.max - b.min) * scale;
+                if (std::holds_alternative<Ball<3>>(o.shape)) o.shape = Ball<3>{target, std::get<Ball<3>>(o.shape).radius * scale};
+                else o.shape = Box<3>{target - half, target + half};
+                culler.addObject(o);
+                objects.push_back(o);
+            }
+            REQUIRE(culler.objectCount() == objects.size());
+            Camera3 cam = ref::randomCamera3D(rng, s.grid, objects, s.snapped, opt);
+            checkFrame(culler, objects, cam, "update, seed " + std::to_string(seed) + ", frame " + std::to_string(frame), tally);
+        }
+    }
+    tally.print("update/remove");
+    REQUIRE(tally.frames == 500);
+    REQUIRE(tally.misses == 0);
+}
+
+TEST_CASE("culler3d: without occlusion the PVS is a superset, and holds the whole view-region set", "[culler3d]") {
+    std::size_t frames = 0, extra = 0, layerExtra = 0;
+    for (std::uint64_t seed = 600001; seed < 600201; ++seed) {
+        ref::SceneOptions3D opt;
+        if (seed % 2) {
+            opt.minResolution = 8;
+            opt.maxResolution = 24;
+            opt.minObjects = 20;
+        }
+        ref::Scene3D s = ref::randomScene3D(seed, opt);
+        CullerOptions vfcOnly, layered;
+        vfcOnly.occlusion = false;
+        layered.occluderExtension = false;
+        Culler3D full(s.grid), vfc(s.grid, vfcOnly), layer(s.grid, layered);
+        for (const ObjectDesc<3>& o : s.objects) {
+            full.addObject(o);
+            vfc.addObject(o);
+            layer.addObject(o);
+        }
+        std::mt19937_64 rng(seed);
+        for (int c = 0; c < 2; ++c) {
+            Camera3 cam = c == 0 ? s.camera : ref::randomCamera3D(rng, s.grid, s.objects, s.snapped, opt);
+            const std::vector<ObjectId> withOcclusion = full.cull(cam).pvs;
+            const std::vector<ObjectId> layerPvs = layer.cull(cam).pvs;
+            const std::vector<ObjectId>& without = vfc.cull(cam).pvs;
+            const std::vector<bool> inView = ref::inViewRegion3D(ref::shapesOf(s.objects), cam);
+            INFO("seed " << seed << ", camera " << c << "\n" << ref::toJson(s.grid, s.objects, cam));
+            REQUIRE(std::includes(without.begin(), without.end(), withOcclusion.begin(), withOcclusion.end()));
+            REQUIRE(std::includes(without.begin(), without.end(), layerPvs.begin(), layerPvs.end()));
+            // Caps at k-1, k-2, k-4, ... include the k-1 caps: never a larger PVS than layer by layer.
+            REQUIRE(std::includes(layerPvs.begin(), layerPvs.end(), withOcclusion.begin(), withOcclusion.end()));
+            for (std::size_t i = 0; i < s.objects.size(); ++i)
+                if (inView[i] && !contains(without, s.objects[i].id))
+                    FAIL_CHECK("id " << s.objects[i].id << " touches the view region but is not in the VFC PVS");
+            extra += without.size() - withOcclusion.size();
+            layerExtra += layerPvs.size() - withOcclusion.size();
+            ++frames;
+        }
+    }
+    std::cout << "[culler3d] occlusion removed " << extra << " objects over " << frames << " frames; layer-by-layer caps kept "
+              << layerExtra << " more than exponential caps\n";
+    REQUIRE(frames == 400);
+}
+
+TEST_CASE("culler3d: the moving-spheres benchmark scene, small", "[culler3d]") {
+    // The benchmark's kind of scene (clustered spheres, moving, camera walking through it), scaled down
+    // so that the reference stays cheap: 400 spheres at 50x30x50, 40 frames, at both grid resolutions.
+    ref::MovingSpheres3D b = ref::movingSpheres3D(3, 400, {50, 30, 50}, 4);
+    const GridGeometry3 coarse({0, 0, 0}, 2.0, {25, 15, 25});
+    Culler3D fine(b.grid), coarser(coarse);
+    for (const ObjectDesc<3>& o : b.objects) {
+        fine.addObject(o);
+        coarser.addObject(o);
+    }
+    Tally tFine, tCoarse;
+    const int frames = 40;
+    for (int f = 0; f < frames; ++f) {
+        const Camera3 cam = ref::movingSpheresCamera(b, f, frames);
+        checkFrame(fine, b.objects, cam, "moving spheres 50x30x50, frame " + std::to_string(f), tFine);
+        checkFrame(coarser, b.objects, cam, "moving spheres 25x15x25, frame " + std::to_string(f), tCoarse);
+        ref::stepMovingSpheres(b);
+        for (const ObjectDesc<3>& o : b.objects) {
+            fine.updateObject(o.id, o.shape);
+            coarser.updateObject(o.id, o.shape);
+        }
+    }
+    tFine.print("moving spheres, 400 at 50x30x50");
+    tCoarse.print("moving spheres, 400 at 25x15x25");
+    REQUIRE(tFine.misses == 0);
+    REQUIRE(tCoarse.misses == 0);
+}
+
+TEST_CASE("culler3d: invalid input throws InvalidInput and changes nothing", "[culler3d]") {
+    GridGeometry3 grid({0, 0, 0}, 1.0, {32, 32, 32});
+    Culler3D culler(grid);
+    culler.addObject({1, Ball<3>{{10, 10, 10}, 2}, true, 0});
+    culler.addObject({2, Box<3>{{20, 5, 5}, {22, 25, 25}}, false, 1});
+    const Camera3 good = makeCamera({2, 10, 10}, {1, 0, 0}, 90);
+    const std::vector<ObjectId> before = culler.cull(good).pvs;
+    CHECK(before == std::vector<ObjectId>{1, 2});
+
+    SECTION("cameras") {
+        const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+        auto bad = [&](auto mutate) {
+            Camera3 c = good;
+            mutate(c);
+            return c;
+        };
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.position.x = nan; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.position.z = inf; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.direction = {0, 0, 0}; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.direction = {1, nan, 0}; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.direction = {0, 2, 0}; })), InvalidInput);  // parallel to the default up
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.direction = {0, -5, 0}; })), InvalidInput); // antiparallel
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.up = {3, 0, 0}; })), InvalidInput);         // up along direction
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.up = {nan, 1, 0}; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.fovDeg = 180; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.fovDeg = 0; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.fovDeg = -10; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.fovDeg = 270; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.fovDeg = nan; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.aspect = 0; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.aspect = -1; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.aspect = nan; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.aspect = inf; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.far = 0; })), InvalidInput);
+        CHECK_THROWS_AS(culler.cull(bad([&](Camera3& c) { c.far = nan; })), InvalidInput);
+        CHECK_NOTHROW(culler.cull(bad([&](Camera3& c) { c.fovDeg = 179.9; })));
+        CHECK_NOTHROW(culler.cull(bad([&](Camera3& c) { c.direction = {0, 2, 0}; c.up = {0, 0, 1}; })));
+        CHECK_NOTHROW(culler.cull(bad([&](Camera3& c) { c.aspect = 1e-3; })));
+    }
+    SECTION("objects") {
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        CHECK_THROWS_AS(culler.addObject({1, Ball<3>{{5, 5, 5}, 1}, true, 0}), InvalidInput); // duplicate id
+        CHECK_THROWS_AS(culler.addObject({3, Ball<3>{{5, 5, 5}, 0}, true, 0}), InvalidInput);
+        CHECK_THROWS_AS(culler.addObject({3, Ball<3>{{5, 5, 5}, -1}, true, 0}), InvalidInput);
+        CHECK_THROWS_AS(culler.addObject({3, Ball<3>{{5, 5, 5}, nan}, true, 0}), InvalidInput);
+        CHECK_THROWS_AS(culler.addObject({3, Box<3>{{5, 5, 5}, {5, 6, 6}}, true, 0}), InvalidInput);
+        CHECK_THROWS_AS(culler.addObject({3, Box<3>{{5, 5, 5}, {6, 4, 6}}, true, 0}), InvalidInput);
+        CHECK_THROWS_AS(culler.addObject({3, Ball<3>{{nan, 5, 5}, 1}, true, 0}), InvalidInput);
+        CHECK_THROWS_AS(culler.addObject({3, Box<3>{{5, 5, 5}, {6, 6, std::numeric_limits<double>::infinity()}}, true, 0}), InvalidInput);
+        CHECK_THROWS_AS(culler.addObject({3, Ball<3>{{5, 5, 5}, 1}, false, -1}), InvalidInput);
+        CHECK_THROWS_AS(culler.addObject({3, Ball<3>{{5, 5, 5}, 1}, false, nan}), InvalidInput);
+        CHECK_THROWS_AS(culler.updateObject(99, Ball<3>{{5, 5, 5}, 1}), InvalidInput); // unknown id
+        CHECK_THROWS_AS(culler.removeObject(99), InvalidInput);
+        CHECK_THROWS_AS(culler.updateObject(1, Ball<3>{{5, 5, 5}, 0}), InvalidInput);
+        CHECK_THROWS_AS(culler.updateObject(1, Box<3>{{5, 5, 5}, {4, 6, 6}}), InvalidInput);
+        CHECK_THROWS_AS(culler.updateObject(2, Ball<3>{{5, nan, 5}, 1}), InvalidInput);
+        CHECK_FALSE(culler.hasObject(3));
+    }
+    // Strong guarantee: after the failed calls the culler answers exactly as before.
+    CHECK(culler.objectCount() == 2);
+    CHECK(culler.hasObject(1));
+    CHECK(culler.hasObject(2));
+    CHECK(culler.cull(good).pvs == before);
+}
