@@ -1,0 +1,88 @@
+// Object bookkeeping over many moves: after any sequence of updateObject/removeObject calls, the grid
+// (O and I) and the PVS are exactly those of a culler built fresh from the final placements. This pins
+// down the incremental footprint update (only the difference of old and new footprints is written).
+#include <catch2/catch.hpp>
+
+#include "rgvc/dynamics/Culler.hpp"
+
+#include <random>
+
+using namespace rgvc;
+
+namespace {
+
+template <int D> Shape<D> randomShape(std::mt19937_64& rng, double extent) {
+    std::uniform_real_distribution<double> pos(-2, extent + 2), size(0.2, 4.0), coin(0, 1);
+    Vec<D> c;
+    for (int a = 0; a < D; ++a) c[a] = pos(rng);
+    if (coin(rng) < 0.5) return Ball<D>{c, size(rng)};
+    Vec<D> h;
+    for (int a = 0; a < D; ++a) h[a] = size(rng);
+    return Box<D>{c - h, c + h};
+}
+
+template <int D> void checkSameGrid(const Culler<D>& a, const Culler<D>& b, std::uint64_t seed) {
+    const IVec<D> res = a.grid().resolution();
+    IVec<D> v{0};
+    std::size_t mismatches = 0;
+    const std::size_t n = a.grid().voxelCount();
+    for (std::size_t i = 0; i < n; ++i) {
+        std::size_t r = i;
+        for (int ax = 0; ax < D; ++ax) {
+            v[ax] = std::int32_t(r % std::size_t(res[ax]));
+            r /= std::size_t(res[ax]);
+        }
+        const VoxelState sa = a.voxelState(v), sb = b.voxelState(v);
+        mismatches += sa.opaque != sb.opaque || sa.hasIds != sb.hasIds;
+    }
+    INFO("seed " << seed);
+    CHECK(mismatches == 0);
+}
+
+template <int D> void runMoves(std::uint64_t seed, const IVec<D>& res, const Camera<D>& camera) {
+    std::mt19937_64 rng(seed);
+    const GridGeometry<D> grid(Vec<D>(0.0), 1.0, res);
+    Culler<D> culler(grid);
+    std::vector<Shape<D>> shapes;
+    const int count = 40;
+    for (int i = 0; i < count; ++i) {
+        shapes.push_back(randomShape<D>(rng, res.x));
+        culler.addObject({ObjectId(i), shapes.back(), false, 1.0});
+    }
+    std::uniform_real_distribution<double> step(-0.7, 0.7), coin(0, 1);
+    std::vector<bool> alive(count, true);
+    for (int frame = 0; frame < 200; ++frame) {
+        for (int i = 0; i < count; ++i) {
+            if (!alive[i]) continue;
+            if (coin(rng) < 0.01) { // a few objects leave for good
+                culler.removeObject(ObjectId(i));
+                alive[i] = false;
+                continue;
+            }
+            Vec<D> t;
+            for (int a = 0; a < D; ++a) t[a] = step(rng);
+            shapes[i] = coin(rng) < 0.05 ? randomShape<D>(rng, res.x) : translated<D>(shapes[i], t);
+            culler.updateObject(ObjectId(i), shapes[i]);
+        }
+    }
+    Culler<D> fresh(grid);
+    for (int i = 0; i < count; ++i)
+        if (alive[i]) fresh.addObject({ObjectId(i), shapes[i], false, 1.0});
+    checkSameGrid(culler, fresh, seed);
+    const std::vector<ObjectId> pvs = culler.cull(camera).pvs;
+    INFO("seed " << seed);
+    CHECK(pvs == fresh.cull(camera).pvs);
+}
+
+} // namespace
+
+TEST_CASE("dynamics: 200 frames of moves leave the 2D grid as a fresh build would", "[dynamics]") {
+    for (std::uint64_t seed = 1; seed <= 6; ++seed)
+        runMoves<2>(seed, IVec2{48, 40}, Camera2{.position = {3.5, 20.2}, .direction = {1, 0.1}, .fovDeg = 120});
+}
+
+TEST_CASE("dynamics: 200 frames of moves leave the 3D grid as a fresh build would", "[dynamics]") {
+    for (std::uint64_t seed = 11; seed <= 14; ++seed)
+        runMoves<3>(seed, IVec3{20, 16, 24},
+                    Camera3{.position = {10.3, 8.2, 1.5}, .direction = {0, 0, 1}, .fovDeg = 70});
+}
