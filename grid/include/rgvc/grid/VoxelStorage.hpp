@@ -42,6 +42,7 @@ concept VoxelStorage = requires(S s, const S cs, VoxelKey k, ObjectSlot o, std::
     { cs.visited(k, stamp) } -> std::convertible_to<bool>;
     s.setVisited(k, stamp);
     { cs.hasIds(k) } -> std::convertible_to<bool>;
+    cs.forEachId(k, [](ObjectSlot) {});
     s.addId(k, o);
     s.removeId(k, o);
     s.resetStamps();
