@@ -121,7 +121,7 @@ public:
 
         for (std::int32_t k = 1; k <= kMax; ++k) {
             if (!std::isinf(frustum.far()) && double(k - 1) > frustum.far()) break;
-            std::uint64_t inGrid = 0, open = 0;
+            std::uint64_t inGrid = 0, open = 0, shellBlocked = 0;
             std::array<IVec2, 6> rectLo, rectHi; // visited rectangles per face (b1, b2 offsets)
             if (options.occlusion) prepareCaps(k, options);
             for (int face = 0; face < 6; ++face) {
@@ -166,11 +166,16 @@ public:
                         if (options.occlusion && hiddenByCaps(o, face)) {
                             storage.setOccluded(key, stamp);
                             ++stats.voxelsOccluded;
+                            ++shellBlocked;
                             continue;
                         }
                         onVoxel(key, voxel);
-                        if (storage.opaque(key)) ++stats.opaqueVisited;
-                        else ++open;
+                        if (storage.opaque(key)) {
+                            ++stats.opaqueVisited;
+                            ++shellBlocked;
+                        } else {
+                            ++open;
+                        }
                     }
                 }
             }
@@ -180,7 +185,9 @@ public:
                 stats.earlyTermination = true;
                 break;
             }
-            if (options.occlusion) buildCaps(grid, storage, c, k, stamp, rectLo, rectHi, stats);
+            // A shell whose visited voxels hold nothing opaque or occluded gets no caps: skipping a cap only
+            // leaves voxels out of H (its margin outside the frustum might have held a few blockers).
+            if (options.occlusion && (shellBlocked > 0)) buildCaps(grid, storage, c, k, stamp, rectLo, rectHi, stats);
         }
         return stats;
     }
