@@ -143,12 +143,12 @@ template <int D> struct Culler<D>::Impl {
     /// moves a fraction of a voxel changes a thin shell of its footprint, not all of it (profiling the
     /// moving-spheres benchmark showed remove-all/add-all updates as its largest cost).
     void move(ObjectSlot slot, const Shape<D>& world) {
-        footprint(records[slot], m_oldTouched, m_oldInner);
+        footprint(records[slot], oldTouched, oldInner);
         setPlacement(slot, world);
-        footprint(records[slot], m_newTouched, m_newInner);
-        diff(m_oldTouched, m_newTouched, [&](VoxelKey k) { storage.removeId(k, slot); },
+        footprint(records[slot], newTouched, newInner);
+        diff(oldTouched, newTouched, [&](VoxelKey k) { storage.removeId(k, slot); },
              [&](VoxelKey k) { storage.addId(k, slot); });
-        diff(m_oldInner, m_newInner, [&](VoxelKey k) { storage.addOpaque(k, -1); },
+        diff(oldInner, newInner, [&](VoxelKey k) { storage.addOpaque(k, -1); },
              [&](VoxelKey k) { storage.addOpaque(k, +1); });
     }
 
@@ -182,7 +182,7 @@ template <int D> struct Culler<D>::Impl {
     }
 
     // Footprint buffers reused by every move (no allocation per update after warm-up).
-    std::vector<VoxelKey> m_oldTouched, m_oldInner, m_newTouched, m_newInner;
+    std::vector<VoxelKey> oldTouched, oldInner, newTouched, newInner;
 
     void addToPvs(ObjectSlot slot) {
         if (pvsStamp[slot] == frame) return;
