@@ -14,6 +14,12 @@
 //                  free list. After warm-up no insertion allocates.
 //   U  used        a frame stamp marking voxels already part of an extended occluder this frame, so a
 //                  wall of n opaque voxels is extended once, not n times.
+//   T  TBVs        per-voxel lists of the slots whose temporal bounding volume covers the voxel (§4.1),
+//                  from the same kind of pool as I. Allocated on the first TBV: a scene with no moving
+//                  objects never allocates or touches T.
+//   Os             O is maintained incrementally (objects add and remove their own inner voxels) and never
+//                  rebuilt, so the paper's static occluder matrix is O's static part: a static object is
+//                  counted in once and stays; there is nothing to copy from Os into O each frame.
 //   V  visited     a frame stamp of the voxels the traversal visited (for stats and pictures).
 #pragma once
 
@@ -45,14 +51,67 @@ concept VoxelStorage = requires(S s, const S cs, VoxelKey k, ObjectSlot o, std::
     cs.forEachId(k, [](ObjectSlot) {});
     s.addId(k, o);
     s.removeId(k, o);
+    { cs.hasTbvs(k) } -> std::convertible_to<bool>;
+    cs.forEachTbv(k, [](ObjectSlot) {});
+    s.addTbv(k, o);
+    s.removeTbv(k, o);
     s.resetStamps();
+};
+
+/// Singly linked lists of object slots, one list per head, all drawn from one node pool with a free
+/// list: after warm-up, adding to a list allocates nothing. Heads live with their owner (I's in the
+/// voxel cell, T's in their own array).
+class SlotListPool {
+public:
+    template <class Fn> void forEach(std::uint32_t head, Fn&& fn) const {
+        for (std::uint32_t n = head; n != kNone; n = m_nodes[n].next) fn(m_nodes[n].slot);
+    }
+    void add(std::uint32_t& head, ObjectSlot o) {
+        std::uint32_t n;
+        if (m_free != kNone) {
+            n = m_free;
+            m_free = m_nodes[n].next;
+            m_nodes[n] = {o, head};
+        } else {
+            n = std::uint32_t(m_nodes.size());
+            m_nodes.push_back({o, head}); // amortised growth of one pool, not a per-voxel allocation
+        }
+        head = n;
+    }
+    /// Removes one occurrence of o; returns false if the list does not hold it.
+    bool remove(std::uint32_t& head, ObjectSlot o) {
+        for (std::uint32_t* link = &head; *link != kNone; link = &m_nodes[*link].next) {
+            if (m_nodes[*link].slot == o) {
+                const std::uint32_t n = *link;
+                *link = m_nodes[n].next;
+                m_nodes[n].next = m_free;
+                m_free = n;
+                return true;
+            }
+        }
+        return false;
+    }
+    /// Nodes in use.
+    std::size_t size() const {
+        std::size_t freeCount = 0;
+        for (std::uint32_t n = m_free; n != kNone; n = m_nodes[n].next) ++freeCount;
+        return m_nodes.size() - freeCount;
+    }
+
+private:
+    struct Node {
+        ObjectSlot slot;
+        std::uint32_t next;
+    };
+    std::vector<Node> m_nodes;
+    std::uint32_t m_free = kNone;
 };
 
 /// Dense arrays over the whole grid: one 16-byte cell per voxel (O count, I list head, H and V stamps)
 /// so that a traversal step touches one cache line, whatever the axis it walks along (profiling the 3D
 /// traversal, which walks x faces with a stride of a whole row, showed one miss per matrix per voxel with
-/// separate arrays), plus a 4-byte U stamp (read only at opaque voxels) and 8 bytes per (voxel, object)
-/// incidence in I.
+/// separate arrays), plus a 4-byte U stamp (read only at opaque voxels), 8 bytes per (voxel, object)
+/// incidence in I, and once the first TBV exists 4 bytes per voxel plus 8 per incidence for T.
 template <int D> class DenseStorage {
 public:
     explicit DenseStorage(const GridGeometry<D>& grid) : m_cells(grid.voxelCount()), m_used(grid.voxelCount(), 0) {}
@@ -71,32 +130,23 @@ public:
     void setVisited(VoxelKey k, std::uint32_t stamp) { m_cells[k].visited = stamp; }
 
     bool hasIds(VoxelKey k) const { return m_cells[k].head != kNone; }
-    template <class Fn> void forEachId(VoxelKey k, Fn&& fn) const {
-        for (std::uint32_t n = m_cells[k].head; n != kNone; n = m_nodes[n].next) fn(m_nodes[n].slot);
+    template <class Fn> void forEachId(VoxelKey k, Fn&& fn) const { m_ids.forEach(m_cells[k].head, fn); }
+    void addId(VoxelKey k, ObjectSlot o) { m_ids.add(m_cells[k].head, o); }
+    void removeId(VoxelKey k, ObjectSlot o) { m_ids.remove(m_cells[k].head, o); }
+
+    bool hasTbvs(VoxelKey k) const { return !m_tbvHead.empty() && m_tbvHead[k] != kNone; }
+    template <class Fn> void forEachTbv(VoxelKey k, Fn&& fn) const {
+        if (!m_tbvHead.empty()) m_tbvs.forEach(m_tbvHead[k], fn);
     }
-    void addId(VoxelKey k, ObjectSlot o) {
-        std::uint32_t n;
-        if (m_free != kNone) {
-            n = m_free;
-            m_free = m_nodes[n].next;
-            m_nodes[n] = {o, m_cells[k].head};
-        } else {
-            n = std::uint32_t(m_nodes.size());
-            m_nodes.push_back({o, m_cells[k].head}); // amortised growth of one pool, not a per-voxel allocation
-        }
-        m_cells[k].head = n;
+    void addTbv(VoxelKey k, ObjectSlot o) {
+        if (m_tbvHead.empty()) m_tbvHead.assign(m_cells.size(), kNone); // first TBV of the scene
+        m_tbvs.add(m_tbvHead[k], o);
     }
-    void removeId(VoxelKey k, ObjectSlot o) {
-        for (std::uint32_t* link = &m_cells[k].head; *link != kNone; link = &m_nodes[*link].next) {
-            if (m_nodes[*link].slot == o) {
-                std::uint32_t n = *link;
-                *link = m_nodes[n].next;
-                m_nodes[n].next = m_free;
-                m_free = n;
-                return;
-            }
-        }
+    void removeTbv(VoxelKey k, ObjectSlot o) {
+        if (!m_tbvHead.empty()) m_tbvs.remove(m_tbvHead[k], o);
     }
+    /// Whether T exists at all (it is created by the first addTbv).
+    bool tbvAllocated() const { return !m_tbvHead.empty(); }
 
     /// Called when the frame stamp wraps around: every stamp back to "never".
     void resetStamps() {
@@ -104,12 +154,9 @@ public:
         std::fill(m_used.begin(), m_used.end(), 0);
     }
 
-    /// Incidences currently stored in I (for stats and consistency tests).
-    std::size_t idCount() const {
-        std::size_t freeCount = 0;
-        for (std::uint32_t n = m_free; n != kNone; n = m_nodes[n].next) ++freeCount;
-        return m_nodes.size() - freeCount;
-    }
+    /// Incidences currently stored in I and in T (for stats and consistency tests).
+    std::size_t idCount() const { return m_ids.size(); }
+    std::size_t tbvCount() const { return m_tbvs.size(); }
 
 private:
     struct Cell {
@@ -118,14 +165,11 @@ private:
         std::uint32_t occluded = 0;
         std::uint32_t visited = 0;
     };
-    struct Node {
-        ObjectSlot slot;
-        std::uint32_t next;
-    };
     std::vector<Cell> m_cells;
     std::vector<std::uint32_t> m_used;
-    std::vector<Node> m_nodes;
-    std::uint32_t m_free = kNone;
+    SlotListPool m_ids;
+    std::vector<std::uint32_t> m_tbvHead; // T's list heads; empty until the first TBV
+    SlotListPool m_tbvs;
 };
 
 static_assert(VoxelStorage<DenseStorage<2>>);
