@@ -1,23 +1,24 @@
 #!/usr/bin/env bash
 # Longer libFuzzer runs of rgvc's fuzz targets (tests/fuzz; ctest runs only a 20 s smoke test of each).
 #
-#   scripts/fuzz.sh [TARGET...]            fuzz each target for SECONDS (default: both targets)
+#   scripts/fuzz.sh [TARGET...]            fuzz each target for SECONDS (default: all targets)
 #   scripts/fuzz.sh repro TARGET FILE...   replay inputs (a crash-*/timeout-* file from artifacts/) once
 #   scripts/fuzz.sh minimize TARGET FILE   shrink a crashing input to a smaller one that still crashes
 #
-# TARGET: scene_loader (bytes -> parseScene) or culler2d (bytes -> Culler2D add/update/remove/cull).
+# TARGET: scene_loader (bytes -> parseScene), culler2d or culler3d (bytes -> Culler2D/Culler3D
+#         add/update/remove/cull).
 # Environment:
 #   SECONDS_PER_TARGET  fuzzing time per target (default 600)
 #   FORKS               parallel fuzzing processes per target (libFuzzer -fork; default 1)
 #   BUILD_DIR           clang fuzz build (default build-fuzz), configured here when missing
-#   RGVC_FUZZ_REFERENCE=1  culler2d also checks tame frames against the exact reference (slower; misses
+#   RGVC_FUZZ_REFERENCE=1  culler2d/culler3d also check tame frames against the reference (slower; misses
 #                       become findings)
 # What the fuzzers learn is kept in BUILD_DIR/tests/fuzz/corpus/TARGET (pass it on to later runs);
 # findings go to BUILD_DIR/tests/fuzz/artifacts/TARGET-crash-*. To keep a finding as a regression test,
 # copy it into tests/fuzz/corpus/TARGET/ once it is fixed: ctest's fuzz_*:seeds test replays that folder.
 #
 # Examples:
-#   scripts/fuzz.sh                                   # both targets, 10 minutes each
+#   scripts/fuzz.sh                                   # all targets, 10 minutes each
 #   SECONDS_PER_TARGET=3600 FORKS=2 scripts/fuzz.sh culler2d
 #   scripts/fuzz.sh repro culler2d build-fuzz/tests/fuzz/artifacts/culler2d-crash-1234abcd
 set -euo pipefail
@@ -28,7 +29,7 @@ seconds=${SECONDS_PER_TARGET:-600}
 forks=${FORKS:-1}
 jobs=${JOBS:-2}
 
-usage() { sed -n '2,22p' "$0" >&2; exit 2; }
+usage() { sed -n '2,23p' "$0" >&2; exit 2; }
 
 flags_for() { # the same flags as the ctest smoke tests (tests/fuzz/CMakeLists.txt)
   local t=$1
@@ -38,7 +39,7 @@ flags_for() { # the same flags as the ctest smoke tests (tests/fuzz/CMakeLists.t
 }
 
 check_target() {
-  case "$1" in scene_loader|culler2d) ;; *) echo "fuzz.sh: unknown target '$1' (scene_loader or culler2d)" >&2; exit 2 ;; esac
+  case "$1" in scene_loader|culler2d|culler3d) ;; *) echo "fuzz.sh: unknown target '$1' (scene_loader, culler2d or culler3d)" >&2; exit 2 ;; esac
 }
 
 build_fuzzers() {
@@ -48,7 +49,7 @@ build_fuzzers() {
     cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
       -DCMAKE_CXX_COMPILER=clang++ -DRGVC_BUILD_FUZZERS=ON
   fi
-  cmake --build "$build" -j"$jobs" --target fuzz_scene_loader fuzz_culler2d
+  cmake --build "$build" -j"$jobs" --target fuzz_scene_loader fuzz_culler2d fuzz_culler3d
   mkdir -p "$build/tests/fuzz/artifacts"
 }
 
@@ -72,7 +73,7 @@ case "$mode" in
 esac
 
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(scene_loader culler2d)
+[ ${#targets[@]} -gt 0 ] || targets=(scene_loader culler2d culler3d)
 for t in "${targets[@]}"; do check_target "$t"; done
 build_fuzzers
 
