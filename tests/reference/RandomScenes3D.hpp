@@ -21,6 +21,7 @@
 // included together.
 #pragma once
 
+#include "SeededRandom.hpp"
 #include "rgvc/dynamics/Culler.hpp"
 #include "rgvc/grid/Camera.hpp"
 #include "rgvc/grid/GridGeometry.hpp"
@@ -58,15 +59,12 @@ struct Scene3D {
 
 namespace scene3d_detail {
 
-inline double uniform01(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1.0p-53; }
-inline double uniform(std::mt19937_64& rng, double a, double b) { return a + (b - a) * uniform01(rng); }
-inline int uniformInt(std::mt19937_64& rng, int a, int b) { return a + int(rng() % std::uint64_t(b - a + 1)); }
-inline bool chance(std::mt19937_64& rng, double p) { return uniform01(rng) < p; }
-/// Log-uniform in [a, b]: sizes spread evenly over orders of magnitude.
-inline double logUniform(std::mt19937_64& rng, double a, double b) {
-    return std::exp(uniform(rng, std::log(a), std::log(b)));
-}
-template <class T> const T& pick(std::mt19937_64& rng, const std::vector<T>& v) { return v[rng() % v.size()]; }
+using seeded::chance;
+using seeded::logUniform;
+using seeded::pick;
+using seeded::uniform;
+using seeded::uniform01;
+using seeded::uniformInt;
 /// A direction uniform on the unit sphere (rejection from the cube).
 inline Vec3 unitVector(std::mt19937_64& rng) {
     for (;;) {
