@@ -1,6 +1,8 @@
 // Exact 2D visibility by angular sweep; see ExactVisibility2D.hpp for the definition and tolerances.
 #include "ExactVisibility2D.hpp"
 
+#include "RayInterval.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -72,25 +74,11 @@ Obj prepare(const Shape<2>& shape, const Vec2& cam) {
     return o;
 }
 
-struct Interval {
-    double lo = kInf, hi = -kInf;
-    bool empty() const { return !(lo <= hi); }
-};
 
 // Parameters t (whole line, t may be negative) where t*u lies within `off` of o: off > 0 grows the
 // object, off < 0 keeps only points deeper than -off inside it.
 Interval clip(const Obj& o, const Vec2& u, double off) {
-    if (o.isCircle) {
-        double r = o.radius + off;
-        if (!(r > 0)) return {};
-        double b = glm::dot(o.center, u);
-        // r^2 - |perpendicular offset|^2 instead of b^2 - |c|^2 + r^2: no cancellation for far circles.
-        Vec2 perp = o.center - b * u;
-        double disc = r * r - lengthSquared<2>(perp);
-        if (disc < 0) return {};
-        double s = std::sqrt(disc);
-        return {b - s, b + s};
-    }
+    if (o.isCircle) return clipBall<2>(o.center, o.radius, u, off);
     double lo = -kInf, hi = kInf;
     for (std::size_t i = 0; i < o.pts.size(); ++i) {
         // Inside the grown edge half-plane: dot(n, t*u - p) <= off, i.e. f + t*d <= 0.

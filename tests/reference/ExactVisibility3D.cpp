@@ -1,6 +1,8 @@
 // Sampled 3D visibility reference; see ExactVisibility3D.hpp for the definition, method and tolerances.
 #include "ExactVisibility3D.hpp"
 
+#include "RayInterval.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -47,25 +49,11 @@ Obj prepare(const Shape<3>& shape, const Vec3& cam) {
     return o;
 }
 
-struct Interval {
-    double lo = kInf, hi = -kInf;
-    bool empty() const { return !(lo <= hi); }
-};
 
 // Parameters t (whole line) where t*u lies within `off` of o: off > 0 grows the object, off < 0 keeps only
 // points deeper than -off inside it.
 Interval clip(const Obj& o, const Vec3& u, double off) {
-    if (o.isBall) {
-        double r = o.radius + off;
-        if (!(r > 0)) return {};
-        double b = glm::dot(o.center, u);
-        // r^2 - |perpendicular offset|^2: no cancellation for far spheres.
-        Vec3 perp = o.center - b * u;
-        double disc = r * r - lengthSquared<3>(perp);
-        if (disc < 0) return {};
-        double s = std::sqrt(disc);
-        return {b - s, b + s};
-    }
+    if (o.isBall) return clipBall<3>(o.center, o.radius, u, off);
     double lo = -kInf, hi = kInf;
     for (int a = 0; a < 3; ++a) {
         double l = o.lo[a] - off, h = o.hi[a] + off;
