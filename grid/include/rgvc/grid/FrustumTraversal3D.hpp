@@ -102,7 +102,8 @@ public:
         // Truncated pyramid covering the frustum up to beyond the grid (centre-relative).
         const Vec3 apex = frustum.apex() - (Vec3(c) + 0.5);
         const double cosEdge = glm::dot(frustum.edge(0), frustum.forward());
-        const double reach = (std::sqrt(3.0) * (kMax + 1.5) + 1.0) / std::max(cosEdge, 1e-9);
+        const bool nearlyFlat = cosEdge < 1e-3;
+        const double reach = (std::sqrt(3.0) * (kMax + 1.5) + 1.0) / std::max(cosEdge, 1e-3);
         std::array<Vec3, 5> pyramid{apex, apex + frustum.edge(0) * reach, apex + frustum.edge(1) * reach,
                                     apex + frustum.edge(2) * reach, apex + frustum.edge(3) * reach};
 
@@ -133,7 +134,10 @@ public:
                 const std::int32_t r1 = (a == 0) ? k : k - 1;
                 const std::int32_t r2 = (a == 2) ? k - 1 : k;
                 IVec2 lo{-r1, -r2}, hi{r1, r2};
-                if (!crossSection(pyramid, a, sgn, k, b1, b2, lo, hi)) {
+                // A frustum within ~0.06 degrees of a half-space has edges nearly orthogonal to its axis: its
+                // truncated pyramid would be far too long to build accurately, so such a view scans whole
+                // faces (rowSpan still clips every row to the side planes). Found by fuzz_culler3d.
+                if (!nearlyFlat && !crossSection(pyramid, a, sgn, k, b1, b2, lo, hi)) {
                     rectLo[face] = IVec2(1);
                     rectHi[face] = IVec2(0);
                     continue;
