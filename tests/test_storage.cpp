@@ -1,4 +1,5 @@
-// DenseStorage: the I and T lists against a multiset model, T's lazy allocation, O counts and stamps.
+// DenseStorage: the I lists against a multiset model, O counts and stamps. (T lives in TbvMatrix.hpp;
+// test_tbv.cpp covers it.)
 #include <catch2/catch.hpp>
 
 #include "rgvc/grid/VoxelStorage.hpp"
@@ -19,61 +20,34 @@ template <class ForEach> std::multiset<ObjectSlot> collect(ForEach&& forEach) {
 }
 } // namespace
 
-TEST_CASE("storage: T is not allocated until the first TBV, and is empty everywhere before", "[storage]") {
-    DenseStorage<3> s(GridGeometry3(Vec3(0.0), 1.0, {8, 8, 8}));
-    CHECK_FALSE(s.tbvAllocated());
-    for (VoxelKey k = 0; k < 512; ++k) CHECK_FALSE(s.hasTbvs(k));
-    s.removeTbv(5, 1); // harmless before allocation
-    CHECK_FALSE(s.tbvAllocated());
-    s.addTbv(5, 1);
-    CHECK(s.tbvAllocated());
-    CHECK(s.hasTbvs(5));
-    CHECK_FALSE(s.hasTbvs(6));
-    s.removeTbv(5, 1);
-    CHECK_FALSE(s.hasTbvs(5));
-    CHECK(s.tbvCount() == 0);
-}
-
-TEST_CASE("storage: I and T lists match a multiset model over random adds and removes", "[storage]") {
+TEST_CASE("storage: I lists match a multiset model over random adds and removes", "[storage]") {
     const std::uint64_t seed = 77;
     INFO("seed " << seed);
     std::mt19937_64 rng(seed);
     const GridGeometry2 grid({0, 0}, 1.0, {16, 16});
     DenseStorage<2> s(grid);
-    Model ids, tbvs;
+    Model ids;
     std::uniform_int_distribution<VoxelKey> key(0, 255);
     std::uniform_int_distribution<ObjectSlot> slot(0, 20);
-    std::uniform_int_distribution<int> op(0, 3);
+    std::uniform_int_distribution<int> op(0, 1);
     for (int step = 0; step < 20000; ++step) {
         const VoxelKey k = key(rng);
         const ObjectSlot o = slot(rng);
-        switch (op(rng)) {
-        case 0: s.addId(k, o); ids[k].insert(o); break;
-        case 1:
-            if (auto it = ids[k].find(o); it != ids[k].end()) {
-                s.removeId(k, o);
-                ids[k].erase(it);
-            }
-            break;
-        case 2: s.addTbv(k, o); tbvs[k].insert(o); break;
-        default:
-            if (auto it = tbvs[k].find(o); it != tbvs[k].end()) {
-                s.removeTbv(k, o);
-                tbvs[k].erase(it);
-            }
+        if (op(rng) == 0) {
+            s.addId(k, o);
+            ids[k].insert(o);
+        } else if (auto it = ids[k].find(o); it != ids[k].end()) {
+            s.removeId(k, o);
+            ids[k].erase(it);
         }
     }
-    std::size_t idTotal = 0, tbvTotal = 0;
+    std::size_t idTotal = 0;
     for (VoxelKey k = 0; k < 256; ++k) {
         CHECK(collect([&](auto fn) { s.forEachId(k, fn); }) == ids[k]);
-        CHECK(collect([&](auto fn) { s.forEachTbv(k, fn); }) == tbvs[k]);
         CHECK(s.hasIds(k) == !ids[k].empty());
-        CHECK(s.hasTbvs(k) == !tbvs[k].empty());
         idTotal += ids[k].size();
-        tbvTotal += tbvs[k].size();
     }
     CHECK(s.idCount() == idTotal);
-    CHECK(s.tbvCount() == tbvTotal);
 }
 
 TEST_CASE("storage: O counts overlapping objects; stamps clear in O(1) and reset on wrap", "[storage]") {

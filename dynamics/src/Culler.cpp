@@ -10,8 +10,12 @@
 #include "rgvc/grid/ViewWedge.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
 
+#include "SlotSet.hpp"
+
 #include <algorithm>
 #include <chrono>
+#include <exception>
+#include <utility>
 #include <new>
 #include <unordered_map>
 
@@ -86,121 +90,506 @@ template <> struct CullerTraits<3> {
 template <int D> struct Culler<D>::Impl {
     using Traits = CullerTraits<D>;
 
-    struct Record {
-        ObjectId id = 0;
-        Shape<D> local;           // voxel units, as rasterized into I and O
+    /// Where an object is held. Static: O and I for good (§4.5). Tracked: O and I at its current placement
+    /// (last PVS, revealed, new, or refused a TBV). Hidden: only its TBV in T. Parked: its placement query
+    /// failed; reported in every PVS until one succeeds. Detached: between two of these.
+    enum class State : std::uint8_t { Static, Tracked, Hidden, Parked, Detached };
+
+    /// A placement converted once: what rasterization, TBVs and the outside-grid test read.
+    struct Placement {
+        Shape<D> world;
+        Shape<D> local;            // voxel units, as rasterized into I and O
         Box<D> localBounds;
         double worldMagnitude = 0; // largest |coordinate| of the world-unit bounds
-        bool isStatic = false;
-        bool outsideGrid = false; // partly or wholly outside: also tested against the view region
-        bool alive = false;
+        bool outsideGrid = false;  // partly or wholly outside: also tested against the view region
+    };
+
+    struct Record {
+        ObjectId id = 0;
+        Placement at;
         double maxSpeed = 0;
+        State state = State::Detached;
+        bool alive = false;
+        std::uint64_t lastPvsFrame = 0; // frameIndex of the last PVS holding it
+        std::uint64_t placedFrame = 0;  // frameIndex of its last successful placement query
+        TbvRegion<D> tbv;
+        std::uint64_t tbvExpiry = 0;    // first frame the TBV no longer covers
+        std::uint32_t tbvGeneration = 0;
     };
 
     GridGeometry<D> grid;
     CullerOptions options;
     DenseStorage<D> storage;
+    TbvMatrix<D> tbvs;
     typename Traits::Traversal traversal;
     std::vector<Record> records;
     std::vector<ObjectSlot> freeSlots;
     std::unordered_map<ObjectId, ObjectSlot> slotOf;
-    std::vector<std::uint32_t> pvsStamp; // per slot: frame in which it was added to the PVS
-    std::uint32_t outsideCount = 0;
-    std::uint32_t frame = 0;
+    std::vector<std::uint32_t> pvsStamp;    // per slot: frame stamp in which it was added to the PVS
+    std::vector<std::uint32_t> statePos;    // per slot: position in tracked, hidden or parked
+    std::vector<std::uint32_t> outsidePos;  // per slot: position in outside
+    SlotSet tracked, hidden, parked, outside;
+    // Expiry buckets: TBVs expiring at frame f wait in expiring[f % size] (a validity is at most
+    // tbvMaxFrames, so a bucket never holds two different frames). Entries of TBVs revealed or
+    // renewed meanwhile are recognised by their generation and dropped.
+    std::vector<std::vector<std::pair<ObjectSlot, std::uint32_t>>> expiring;
+    std::uint32_t frame = 0;         // stamp of the stamped matrices, wraps
+    std::uint64_t frameIndex = 0;    // cull() calls so far, never wraps
+    bool havePrevCamera = false;
+    IVec<D> prevCamera{0};
     CullResult result;
 
-    Impl(const GridGeometry<D>& g, const CullerOptions& o) : grid(g), options(o), storage(g) {}
+    // The current frame's placement source (null: the stored placements) and its first failure.
+    const PlacementQuery<D>* query = nullptr;
+    std::exception_ptr queryException;
+    std::string invalidField, invalidWhat;
+    std::uint64_t writes = 0;
+    std::vector<ObjectSlot> revealScratch;
+    Placement fetched; // the last placement a query returned
+    // Footprint buffers reused by every move (no allocation per update after warm-up).
+    std::vector<VoxelKey> oldTouched, oldInner, newTouched, newInner;
+
+    Impl(const GridGeometry<D>& g, const CullerOptions& o)
+        : grid(g), options(o), storage(g), tbvs(g.resolution()), expiring(std::size_t(o.tbvMaxFrames) + 2) {}
+
+    // ---- placements and rasterization ------------------------------------------------------------
+
+    Placement makePlacement(const Shape<D>& world) const {
+        Placement p;
+        p.world = world;
+        const Box<D> wb = boundsOf<D>(world);
+        for (int a = 0; a < D; ++a)
+            p.worldMagnitude = std::max(p.worldMagnitude, std::max(std::abs(wb.min[a]), std::abs(wb.max[a])));
+        p.local = toLocal<D>(world, grid);
+        p.localBounds = boundsOf<D>(p.local);
+        p.outsideGrid = extendsOutsideGrid<D>(p.local, grid.resolution());
+        return p;
+    }
 
     void rasterize(ObjectSlot slot, int sign) {
-        const Record& r = records[slot];
+        const Placement& p = records[slot].at;
         const IVec<D> res = grid.resolution();
         // The slack covers the world-to-voxel rounding of the object's coordinates (and the grid's).
-        const double slack = grid.conversionSlack(r.worldMagnitude);
+        const double slack = grid.conversionSlack(p.worldMagnitude);
         forEachTouchedVoxel<D>(
-            r.local, res,
+            p.local, res,
             [&](const IVec<D>& v) {
                 const VoxelKey key = grid.linearIndex(v);
                 if (sign > 0) storage.addId(key, slot);
                 else storage.removeId(key, slot);
+                ++writes;
             },
             slack);
         forEachInnerVoxel<D>(
-            r.local, res, [&](const IVec<D>& v) { storage.addOpaque(grid.linearIndex(v), sign); }, slack);
+            p.local, res,
+            [&](const IVec<D>& v) {
+                storage.addOpaque(grid.linearIndex(v), sign);
+                ++writes;
+            },
+            slack);
     }
 
-    /// The footprint of a placed object: its touched (I) and inner (O) voxels, in increasing key order
+    /// The footprint of a placement: its touched (I) and inner (O) voxels, in increasing key order
     /// (the rasterizers emit rows in increasing order, x fastest, as linearIndex counts).
-    void footprint(const Record& r, std::vector<VoxelKey>& touched, std::vector<VoxelKey>& inner) const {
+    void footprint(const Placement& p, std::vector<VoxelKey>& touched, std::vector<VoxelKey>& inner) const {
         touched.clear();
         inner.clear();
         const IVec<D> res = grid.resolution();
-        const double slack = grid.conversionSlack(r.worldMagnitude);
-        forEachTouchedVoxel<D>(r.local, res, [&](const IVec<D>& v) { touched.push_back(grid.linearIndex(v)); }, slack);
-        forEachInnerVoxel<D>(r.local, res, [&](const IVec<D>& v) { inner.push_back(grid.linearIndex(v)); }, slack);
+        const double slack = grid.conversionSlack(p.worldMagnitude);
+        forEachTouchedVoxel<D>(p.local, res, [&](const IVec<D>& v) { touched.push_back(grid.linearIndex(v)); }, slack);
+        forEachInnerVoxel<D>(p.local, res, [&](const IVec<D>& v) { inner.push_back(grid.linearIndex(v)); }, slack);
     }
 
-    /// Moves an object by writing only the difference between its old and new footprints: a sphere that
-    /// moves a fraction of a voxel changes a thin shell of its footprint, not all of it (profiling the
-    /// moving-spheres benchmark showed remove-all/add-all updates as its largest cost).
-    void move(ObjectSlot slot, const Shape<D>& world) {
-        footprint(records[slot], oldTouched, oldInner);
-        setPlacement(slot, world);
-        footprint(records[slot], newTouched, newInner);
+    /// Moves a rasterized object by writing only the difference between its old and new footprints: a
+    /// sphere that moves a fraction of a voxel changes a thin shell of its footprint, not all of it
+    /// (profiling the moving-spheres benchmark showed remove-all/add-all updates as its largest cost).
+    void moveRasterized(ObjectSlot slot, const Placement& p) {
+        if (&p == &records[slot].at) return; // the stored placement: already rasterized
+        footprint(records[slot].at, oldTouched, oldInner);
+        footprint(p, newTouched, newInner);
+        records[slot].at = p;
         diff(oldTouched, newTouched, [&](VoxelKey k) { storage.removeId(k, slot); },
              [&](VoxelKey k) { storage.addId(k, slot); });
         diff(oldInner, newInner, [&](VoxelKey k) { storage.addOpaque(k, -1); },
              [&](VoxelKey k) { storage.addOpaque(k, +1); });
+        syncOutside(slot);
     }
 
     /// Calls gone(k) for keys only in `before` and came(k) for keys only in `after` (both sorted).
     template <class Gone, class Came>
-    static void diff(const std::vector<VoxelKey>& before, const std::vector<VoxelKey>& after, Gone&& gone, Came&& came) {
+    void diff(const std::vector<VoxelKey>& before, const std::vector<VoxelKey>& after, Gone&& gone, Came&& came) {
         std::size_t i = 0, j = 0;
         while (i < before.size() || j < after.size()) {
             if (j == after.size() || (i < before.size() && before[i] < after[j])) gone(before[i++]);
             else if (i == before.size() || after[j] < before[i]) came(after[j++]);
-            else ++i, ++j;
+            else {
+                ++i, ++j;
+                continue;
+            }
+            ++writes;
         }
     }
 
-    void place(ObjectSlot slot, const Shape<D>& world) {
-        setPlacement(slot, world);
-        rasterize(slot, +1);
+    /// Objects held in O and I that reach outside the grid are also tested against the view region.
+    void syncOutside(ObjectSlot slot) {
+        const Record& r = records[slot];
+        const bool want = r.alive && r.at.outsideGrid && (r.state == State::Tracked || r.state == State::Static);
+        if (want != SlotSet::contains(slot, outsidePos)) {
+            if (want) outside.insert(slot, outsidePos);
+            else outside.erase(slot, outsidePos);
+        }
     }
 
-    void setPlacement(ObjectSlot slot, const Shape<D>& world) {
+    // ---- object states ---------------------------------------------------------------------------
+
+    SlotSet* setOf(State s) {
+        switch (s) {
+        case State::Tracked: return &tracked;
+        case State::Hidden: return &hidden;
+        case State::Parked: return &parked;
+        default: return nullptr;
+        }
+    }
+
+    void enter(ObjectSlot slot, State s) {
+        records[slot].state = s;
+        if (SlotSet* set = setOf(s)) set->insert(slot, statePos);
+        syncOutside(slot);
+    }
+
+    /// Takes an object out of whatever holds it (O and I, T, or the parked list).
+    void detach(ObjectSlot slot) {
         Record& r = records[slot];
-        const Box<D> wb = boundsOf<D>(world);
-        r.worldMagnitude = 0;
-        for (int a = 0; a < D; ++a)
-            r.worldMagnitude = std::max(r.worldMagnitude, std::max(std::abs(wb.min[a]), std::abs(wb.max[a])));
-        r.local = toLocal<D>(world, grid);
-        r.localBounds = boundsOf<D>(r.local);
-        const bool outside = extendsOutsideGrid<D>(r.local, grid.resolution());
-        outsideCount += std::uint32_t(outside) - std::uint32_t(r.outsideGrid && r.alive);
-        r.outsideGrid = outside;
+        if (r.state == State::Tracked || r.state == State::Static) rasterize(slot, -1);
+        if (r.state == State::Hidden) {
+            writes += tbvs.erase(slot, r.tbv, options.tbvDiscretization);
+            ++r.tbvGeneration; // its expiry entry, if any, is now stale
+        }
+        if (SlotSet* set = setOf(r.state)) set->erase(slot, statePos);
+        r.state = State::Detached;
+        syncOutside(slot);
     }
 
-    // Footprint buffers reused by every move (no allocation per update after warm-up).
-    std::vector<VoxelKey> oldTouched, oldInner, newTouched, newInner;
+    void adopt(ObjectSlot slot, const Placement& p) {
+        if (&p != &records[slot].at) records[slot].at = p;
+    }
+
+    void attachTracked(ObjectSlot slot, const Placement& p) {
+        adopt(slot, p);
+        rasterize(slot, +1);
+        enter(slot, State::Tracked);
+    }
+
+    void attachHidden(ObjectSlot slot, const Placement& p, const TbvRegion<D>& region, std::uint64_t expiry) {
+        Record& r = records[slot];
+        adopt(slot, p);
+        r.tbv = region;
+        r.tbvExpiry = expiry;
+        writes += tbvs.insert(slot, region, options.tbvDiscretization);
+        expiring[expiry % expiring.size()].emplace_back(slot, r.tbvGeneration);
+        enter(slot, State::Hidden);
+    }
+
+    // ---- temporal bounding volumes (§4.1) --------------------------------------------------------
+
+    /// Builds the TBV of an object placed at p now: a disc (2D) or cube (3D) around its bounding ball,
+    /// grown by maxSpeed per frame of validity. The validity is the longest that keeps the region inside
+    /// the grid (so the object stays in it) and, for boundary TBVs, clear of the camera's voxel (§4.1),
+    /// capped by tbvMaxFrames and tbvMaxGrowth. False if not even one frame fits.
+    bool buildTbv(const Record& r, const Placement& p, bool cameraKnown, const IVec<D>& camera, TbvRegion<D>& region,
+                  std::uint64_t& expiry) const {
+        if (p.outsideGrid) return false;
+        const Ball<D> b = boundingBall<D>(p.local);
+        double room = INFINITY;
+        for (int a = 0; a < D; ++a)
+            room = std::min(room, std::min(b.center[a], double(grid.resolution()[a]) - b.center[a]));
+        // Strictly clear of the camera voxel: tbvTouches() must say no, with its slack and some rounding.
+        if (cameraKnown && options.tbvDiscretization == TbvDiscretization::Boundary)
+            room = std::min(room, tbvGap(b.center, camera) - 4 * kConservativeSlack);
+        // Rounding of world-to-voxel conversions, now and at every later placement.
+        const double slack = 2 * grid.conversionSlack(p.worldMagnitude) + kConservativeSlack;
+        const double base = b.radius + slack;
+        if (!(base < room)) return false;
+        const double speed = r.maxSpeed / grid.voxelSize() * (1 + 1e-12); // [voxels per frame], > 0
+        region.centre = b.center;
+        double frames = std::min<double>(options.tbvMaxFrames, std::max(1.0, std::floor(options.tbvMaxGrowth / speed)));
+        frames = std::min(frames, std::floor((room - base) / speed));
+        if (!(frames >= 1)) return false;
+        region.radius = base + speed * frames;
+        expiry = frameIndex + std::uint64_t(frames) + 1; // covers this frame and the next `frames`
+        return true;
+    }
+
+    static bool ballInside(const Ball<D>& b, const TbvRegion<D>& r) {
+        if constexpr (D == 2) {
+            return std::sqrt(lengthSquared<2>(b.center - r.centre)) + b.radius <= r.radius;
+        } else {
+            for (int a = 0; a < 3; ++a)
+                if (std::abs(b.center[a] - r.centre[a]) + b.radius > r.radius) return false;
+            return true;
+        }
+    }
+
+    /// The object's placement now, asking the application at most once per frame: the stored placement
+    /// (no query, or asked already) or a fresh one, valid until the next fetch. Null when the query threw
+    /// or returned an invalid shape: the failure is kept to be reported once the frame is done.
+    const Placement* fetch(ObjectSlot slot, CullStats& st) {
+        Record& r = records[slot];
+        if (query == nullptr || r.placedFrame == frameIndex) return &r.at;
+        ++st.placementQueries;
+        try {
+            Shape<D> s = (*query)(r.id);
+            validateShape<D>(s, "object " + std::to_string(r.id) + ".shape");
+            fetched = makePlacement(s);
+        } catch (const InvalidInput& e) {
+            if (invalidField.empty() && !queryException) {
+                invalidField = e.field();
+                invalidWhat = std::string(e.what()).substr(e.field().size() + 2);
+            }
+            return nullptr;
+        } catch (...) {
+            if (invalidField.empty() && !queryException) queryException = std::current_exception();
+            return nullptr;
+        }
+        r.placedFrame = frameIndex;
+        return &fetched;
+    }
+
+    /// Moves a hidden object back into O and I (revealed, expired without a new TBV, camera jump).
+    /// Returns false if it had to be parked.
+    bool reveal(ObjectSlot slot, CullStats& st) {
+        const TbvRegion<D> old = records[slot].tbv;
+        detach(slot);
+        const Placement* p = fetch(slot, st);
+        if (p == nullptr) {
+            enter(slot, State::Parked);
+            return false;
+        }
+        if (!ballInside(boundingBall<D>(p->local), old)) ++st.speedViolations;
+        attachTracked(slot, *p);
+        return true;
+    }
+
+    /// Scene discretization of one frame (§4.1), before the traversal.
+    void updateScene(bool cameraIn, const IVec<D>& camera, CullStats& st) {
+        if (!options.temporalBoundingVolumes) { // the baseline: every moving object re-placed every frame
+            for (std::size_t i = 0; i < tracked.size();) {
+                const ObjectSlot slot = tracked[i];
+                const Placement* p = fetch(slot, st);
+                if (p == nullptr) {
+                    detach(slot);
+                    enter(slot, State::Parked);
+                    continue;
+                }
+                moveRasterized(slot, *p);
+                ++i;
+            }
+        } else {
+            const bool boundary = options.tbvDiscretization == TbvDiscretization::Boundary;
+            // §4.1's camera condition: a camera voxel that moved by more than one voxel on some axis may
+            // have landed inside a TBV without crossing its boundary. Check them all (the only O(hidden)
+            // step, and only on such frames).
+            if (boundary && cameraIn && !hidden.empty()) {
+                bool jump = !havePrevCamera;
+                for (int a = 0; a < D; ++a) jump = jump || std::abs(camera[a] - prevCamera[a]) > 1;
+                if (jump) {
+                    st.cameraJump = true;
+                    for (std::size_t i = 0; i < hidden.size();) {
+                        const ObjectSlot slot = hidden[i];
+                        if (!tbvTouches<D>(records[slot].tbv, camera)) {
+                            ++i;
+                            continue;
+                        }
+                        reveal(slot, st); // leaves `hidden`: index i now holds another slot
+                        ++st.tbvsRevealedByJump;
+                    }
+                }
+            }
+            // Last frame's tracked objects: PVS members are re-placed, the others get a TBV.
+            for (std::size_t i = 0; i < tracked.size();) {
+                const ObjectSlot slot = tracked[i];
+                Record& r = records[slot];
+                const Placement* p = fetch(slot, st);
+                if (p == nullptr) {
+                    detach(slot);
+                    enter(slot, State::Parked);
+                    continue;
+                }
+                TbvRegion<D> region;
+                std::uint64_t expiry = 0;
+                const bool inPvs = r.lastPvsFrame + 1 == frameIndex;
+                if (!inPvs && cameraIn) {
+                    if (buildTbv(r, *p, true, camera, region, expiry)) {
+                        detach(slot);
+                        attachHidden(slot, *p, region, expiry);
+                        ++st.tbvsCreated;
+                        continue;
+                    }
+                    ++st.tbvsRefused;
+                }
+                moveRasterized(slot, *p);
+                ++i;
+            }
+            // Expired TBVs: a new validity around the current placement (or back into O and I).
+            auto& bucket = expiring[frameIndex % expiring.size()];
+            for (const auto& [slot, generation] : bucket) {
+                Record& r = records[slot];
+                if (!r.alive || r.state != State::Hidden || r.tbvGeneration != generation || r.tbvExpiry != frameIndex)
+                    continue;
+                const TbvRegion<D> old = r.tbv;
+                detach(slot);
+                const Placement* p = fetch(slot, st);
+                if (p == nullptr) {
+                    enter(slot, State::Parked);
+                    continue;
+                }
+                if (!ballInside(boundingBall<D>(p->local), old)) ++st.speedViolations;
+                TbvRegion<D> region;
+                std::uint64_t expiry = 0;
+                if (buildTbv(r, *p, cameraIn, camera, region, expiry)) {
+                    attachHidden(slot, *p, region, expiry);
+                    ++st.tbvsRenewed;
+                } else {
+                    attachTracked(slot, *p);
+                    ++st.tbvsRefused;
+                }
+            }
+            bucket.clear();
+        }
+        // Objects whose placement query failed before: ask again.
+        for (std::size_t i = 0; i < parked.size();) {
+            const ObjectSlot slot = parked[i];
+            const Placement* p = fetch(slot, st);
+            if (p == nullptr) {
+                ++i;
+                continue;
+            }
+            detach(slot);
+            attachTracked(slot, *p);
+        }
+    }
+
+    /// A TBV met in a visited, non-occluded voxel: the object goes back into O and I now, and is
+    /// classified in this same frame. The traversal reaches its voxels from here on; those it already
+    /// visited (this layer and earlier ones) are checked now, with the same rule (visited, not in H).
+    void revealDuringTraversal(ObjectSlot slot, CullStats& st) {
+        ++st.tbvsRevealed;
+        if (!reveal(slot, st)) {
+            addToPvs(slot);
+            return;
+        }
+        const Placement& p = records[slot].at;
+        bool seen = false;
+        forEachTouchedVoxel<D>(
+            p.local, grid.resolution(),
+            [&](const IVec<D>& v) {
+                const VoxelKey key = grid.linearIndex(v);
+                seen = seen || (storage.visited(key, frame) && !storage.occluded(key, frame));
+            },
+            grid.conversionSlack(p.worldMagnitude));
+        if (seen) addToPvs(slot);
+    }
 
     void addToPvs(ObjectSlot slot) {
         if (pvsStamp[slot] == frame) return;
         pvsStamp[slot] = frame;
+        records[slot].lastPvsFrame = frameIndex;
         result.pvs.push_back(records[slot].id);
     }
 
     void nextFrame() {
+        ++frameIndex;
         if (++frame == 0) { // the stamps wrapped: pay one full clear every 2^32 - 1 frames
             storage.resetStamps();
             std::fill(pvsStamp.begin(), pvsStamp.end(), 0);
             frame = 1;
         }
     }
+
+    const CullResult& cull(const Camera<D>& camera, const PlacementQuery<D>* placementOf);
 };
+
+template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera, const PlacementQuery<D>* placementOf) {
+    validateCamera<D>(camera);
+    const typename Traits::View view(camera, grid); // may throw (3D: up parallel to direction)
+    const auto t0 = std::chrono::steady_clock::now();
+    nextFrame();
+    result.pvs.clear();
+    CullStats& st = result.stats;
+    st = CullStats{};
+    st.objectCount = std::uint32_t(slotOf.size());
+    query = placementOf;
+    queryException = nullptr;
+    invalidField.clear();
+    writes = 0;
+
+    const bool cameraIn = grid.containsLocal(view.apex());
+    const IVec<D> cameraVoxel = glm::clamp(GridGeometry<D>::voxelOfLocal(view.apex()), IVec<D>(0), grid.resolution() - 1);
+    updateScene(cameraIn, cameraVoxel, st);
+    st.updateMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+    if (cameraIn) {
+        st.tbvLookupsSkipped = hidden.empty();
+        Traits::traverse(traversal, grid, storage, view, frame, options, st, [&](VoxelKey key, const IVec<D>& v) {
+            if (tbvs.liveRegions() != 0) {
+                revealScratch.clear();
+                tbvs.collectAt(v, revealScratch);
+                for (ObjectSlot slot : revealScratch) revealDuringTraversal(slot, st);
+            }
+            storage.forEachId(key, [&](ObjectSlot slot) { addToPvs(slot); });
+        });
+        // Objects reaching outside the grid may be seen through the part the grid does not hold: they are
+        // tested against the view region only.
+        for (std::size_t i = 0; i < outside.size(); ++i) {
+            const Record& r = records[outside[i]];
+            if (view.touchesBox(r.at.localBounds.min, r.at.localBounds.max)) addToPvs(outside[i]);
+        }
+    } else {
+        // The grid's occlusion is only valid for cameras inside it: view-region test for every object, a
+        // hidden one by its TBV (revealed if the TBV touches the view).
+        st.fallback = Fallback::CameraOutsideGrid;
+        st.occlusionSkipped = true;
+        st.tbvLookupsSkipped = true;
+        for (ObjectSlot s = 0; s < records.size(); ++s) {
+            Record& r = records[s];
+            if (!r.alive) continue;
+            if (r.state == State::Hidden) {
+                const Vec<D> lo = r.tbv.centre - r.tbv.radius, hi = r.tbv.centre + r.tbv.radius;
+                if (!view.touchesBox(lo, hi)) continue;
+                ++st.tbvsRevealed;
+                if (!reveal(s, st)) continue; // parked: reported below
+            }
+            if ((r.state == State::Tracked || r.state == State::Static) &&
+                view.touchesBox(r.at.localBounds.min, r.at.localBounds.max))
+                addToPvs(s);
+        }
+    }
+    for (std::size_t i = 0; i < parked.size(); ++i) addToPvs(parked[i]);
+    havePrevCamera = cameraIn;
+    prevCamera = cameraVoxel;
+    query = nullptr;
+
+    st.objectsOutsideGrid = std::uint32_t(outside.size());
+    st.trackedObjects = std::uint32_t(tracked.size());
+    st.hiddenObjects = std::uint32_t(hidden.size());
+    st.parkedObjects = std::uint32_t(parked.size());
+    st.gridWrites = writes;
+    std::sort(result.pvs.begin(), result.pvs.end());
+    st.pvsSize = std::uint32_t(result.pvs.size());
+    st.cullMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (queryException) std::rethrow_exception(std::exchange(queryException, nullptr));
+    if (!invalidField.empty()) throw InvalidInput(invalidField, invalidWhat);
+    return result;
+}
 
 template <int D> Culler<D>::Culler(const GridGeometry<D>& grid, const CullerOptions& options) {
     Impl::Traits::checkGrid(grid);
+    if (options.tbvMaxFrames < 1 || options.tbvMaxFrames > 65536)
+        throw InvalidInput("options.tbvMaxFrames", "must be in [1, 65536], got " + std::to_string(options.tbvMaxFrames));
+    if (!std::isfinite(options.tbvMaxGrowth) || !(options.tbvMaxGrowth > 0))
+        throw InvalidInput("options.tbvMaxGrowth", "must be finite and > 0");
+    if (options.tbvDiscretization != TbvDiscretization::Boundary && options.tbvDiscretization != TbvDiscretization::Filled)
+        throw InvalidInput("options.tbvDiscretization", "unknown value");
     try {
         m_impl = std::make_unique<Impl>(grid, options);
     } catch (const std::bad_alloc&) {
@@ -226,6 +615,7 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
         throw InvalidInput(field + ".max_speed", "must be finite and >= 0");
     Shape<D> shape = object.shape;
     validateShape<D>(shape, field);
+    typename Impl::Placement p = m.makePlacement(shape);
 
     ObjectSlot slot;
     if (!m.freeSlots.empty()) {
@@ -235,14 +625,22 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
         slot = ObjectSlot(m.records.size());
         m.records.emplace_back();
         m.pvsStamp.push_back(0);
+        m.statePos.push_back(kNone);
+        m.outsidePos.push_back(kNone);
     }
     typename Impl::Record& r = m.records[slot];
     r = typename Impl::Record{};
     r.id = object.id;
-    r.isStatic = object.isStatic;
     r.maxSpeed = object.maxSpeed;
-    m.place(slot, shape);
     r.alive = true;
+    // A new object counts as a member of the last PVS: the next frame classifies it before it can be
+    // hidden (the paper's first frame treats every object so).
+    r.lastPvsFrame = m.frameIndex;
+    r.at = std::move(p);
+    m.rasterize(slot, +1);
+    // Without a speed an object cannot move by itself: it is asked for nothing and needs no TBV (§4.5).
+    const bool fixed = object.isStatic || object.maxSpeed == 0;
+    m.enter(slot, fixed ? Impl::State::Static : Impl::State::Tracked);
     m.slotOf.emplace(object.id, slot);
 }
 
@@ -251,13 +649,24 @@ template <int D> void Culler<D>::updateObject(ObjectId id, const Shape<D>& shape
     auto it = m.slotOf.find(id);
     if (it == m.slotOf.end()) throw InvalidInput("object " + std::to_string(id) + ".id", "unknown id");
     Shape<D> validated = shape;
-    try {
-        validateShape<D>(validated, "object"); // the id is spelled out only if there is an error to report
-    } catch (const InvalidInput& e) {
-        const std::string what = e.what();
-        throw InvalidInput("object " + std::to_string(id) + e.field().substr(6), what.substr(e.field().size() + 2));
+    validateShape<D>(validated, "object " + std::to_string(id));
+    typename Impl::Placement p = m.makePlacement(validated);
+    const ObjectSlot slot = it->second;
+    typename Impl::Record& r = m.records[slot];
+    switch (r.state) {
+    case Impl::State::Tracked:
+    case Impl::State::Static: m.moveRasterized(slot, p); break;
+    case Impl::State::Hidden:
+        if (!p.outsideGrid && Impl::ballInside(boundingBall<D>(p.local), r.tbv)) {
+            r.at = std::move(p); // still inside its TBV: nothing in the grid changes
+            break;
+        }
+        [[fallthrough]];
+    default:
+        m.detach(slot);
+        m.attachTracked(slot, p);
+        r.lastPvsFrame = m.frameIndex; // classified by the next frame before it may be hidden again
     }
-    m.move(it->second, validated);
 }
 
 template <int D> void Culler<D>::removeObject(ObjectId id) {
@@ -265,53 +674,17 @@ template <int D> void Culler<D>::removeObject(ObjectId id) {
     auto it = m.slotOf.find(id);
     if (it == m.slotOf.end()) throw InvalidInput("object " + std::to_string(id) + ".id", "unknown id");
     const ObjectSlot slot = it->second;
-    m.rasterize(slot, -1);
-    typename Impl::Record& r = m.records[slot];
-    if (r.outsideGrid) --m.outsideCount;
-    r.alive = false;
-    r.outsideGrid = false;
+    m.detach(slot);
+    m.records[slot].alive = false;
     m.freeSlots.push_back(slot);
     m.slotOf.erase(it);
 }
 
-template <int D> const CullResult& Culler<D>::cull(const Camera<D>& camera) {
-    validateCamera<D>(camera);
-    Impl& m = *m_impl;
-    const typename Impl::Traits::View view(camera, m.grid); // may throw (3D: up parallel to direction)
-    const auto t0 = std::chrono::steady_clock::now();
-    m.nextFrame();
-    m.result.pvs.clear();
-    CullStats& st = m.result.stats;
-    st = CullStats{};
-    st.objectCount = std::uint32_t(m.slotOf.size());
+template <int D> const CullResult& Culler<D>::cull(const Camera<D>& camera) { return m_impl->cull(camera, nullptr); }
 
-    if (m.grid.containsLocal(view.apex())) {
-        Impl::Traits::traverse(m.traversal, m.grid, m.storage, view, m.frame, m.options, st,
-                               [&](VoxelKey key, const IVec<D>&) {
-                                   m.storage.forEachId(key, [&](ObjectSlot slot) { m.addToPvs(slot); });
-                               });
-        // Objects reaching outside the grid may be seen through the part the grid does not hold: they are
-        // tested against the view region only.
-        if (m.outsideCount > 0) {
-            for (ObjectSlot s = 0; s < m.records.size(); ++s) {
-                const typename Impl::Record& r = m.records[s];
-                if (r.alive && r.outsideGrid && view.touchesBox(r.localBounds.min, r.localBounds.max)) m.addToPvs(s);
-            }
-        }
-    } else {
-        // The grid's occlusion is only valid for cameras inside it: view-region test for every object.
-        st.fallback = Fallback::CameraOutsideGrid;
-        st.occlusionSkipped = true;
-        for (ObjectSlot s = 0; s < m.records.size(); ++s) {
-            const typename Impl::Record& r = m.records[s];
-            if (r.alive && view.touchesBox(r.localBounds.min, r.localBounds.max)) m.addToPvs(s);
-        }
-    }
-    st.objectsOutsideGrid = m.outsideCount;
-    std::sort(m.result.pvs.begin(), m.result.pvs.end());
-    st.pvsSize = std::uint32_t(m.result.pvs.size());
-    st.cullMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    return m.result;
+template <int D> const CullResult& Culler<D>::cull(const Camera<D>& camera, const PlacementQuery<D>& placementOf) {
+    if (!placementOf) throw InvalidInput("placementOf", "must be callable");
+    return m_impl->cull(camera, &placementOf);
 }
 
 template <int D> VoxelState Culler<D>::voxelState(const IVec<D>& v) const {
@@ -325,6 +698,7 @@ template <int D> VoxelState Culler<D>::voxelState(const IVec<D>& v) const {
     s.visited = m.frame != 0 && m.storage.visited(key, m.frame);
     s.occluder = m.frame != 0 && m.storage.used(key, m.frame);
     s.hasIds = m.storage.hasIds(key);
+    s.hasTbv = m.tbvs.holdsAt(v);
     return s;
 }
 

@@ -6,7 +6,29 @@
 //   culler.addObject({.id = 8, .shape = rgvc::Box<2>{{60, 10}, {70, 90}}, .isStatic = true});
 //   const rgvc::CullResult& r = culler.cull({.position = {10.5, 20.25}, .direction = {1, 0.2}, .fovDeg = 90});
 //   for (rgvc::ObjectId id : r.pvs) draw(id);   // every visible object is in r.pvs
-//   culler.updateObject(7, rgvc::Ball<2>{{41, 30}, 3.5});   // the object moved
+//   culler.updateObject(7, rgvc::Ball<2>{{41, 30}, 3.5});   // the object moved (push), or:
+//   culler.cull(camera, [&](rgvc::ObjectId id) { return world.shapeOf(id); });   // pull: asked only when needed
+//
+// Dynamic scenes (seed 004 §2, §4.1, §4.5; Sudarsky and Gotsman's temporal bounding volumes). The
+// application owns the motion. Every frame, cull(camera, placementOf) asks for the current placement of
+// exactly the non-static objects it needs (at most once each per frame):
+//   - the objects of the last PVS (re-rasterized into O and I, writing only their footprints' difference);
+//   - objects whose TBV expired (a new TBV is built around their current placement);
+//   - objects whose TBV the traversal met in a visited, non-occluded voxel (rasterized at once and
+//     classified in the same frame).
+// An object that leaves the PVS is taken out of O and I and gets a TBV: a disc (2D) or cube (3D) that
+// contains it for `validity` frames given its maxSpeed, discretized into T (TbvMatrix.hpp). Hidden moving
+// objects therefore cost nothing until their TBV expires or becomes visible, and the frame's cost follows
+// the visible set, not the scene. Static objects are rasterized once and never asked for.
+// cull(camera) is cull(camera, placements as last given to addObject/updateObject). updateObject on a
+// hidden object costs O(1) while the new placement stays inside its TBV.
+//
+// The TBV conditions of §4.1: with the default boundary discretization, a TBV must not contain the camera's
+// voxel, and the camera's voxel moves by at most one voxel per axis from one cull() to the next. The
+// culler keeps both: it sizes each TBV's validity to stay clear of the camera's voxel and inside the grid
+// (or keeps the object in O and I if it cannot: stats.tbvsRefused), and after a larger camera move it
+// checks every TBV against the new camera voxel (stats.cameraJump). maxSpeed is a promise: an object
+// found outside its TBV is counted in stats.speedViolations, and the frames before may have missed it.
 //
 // Guarantee: `cull` returns a superset of the objects visible from the camera (the contract's
 // definition: some point of the object lies in the closed view region and the open segment to it meets
@@ -20,8 +42,10 @@
 #include "rgvc/grid/Camera.hpp"
 #include "rgvc/grid/GridGeometry.hpp"
 #include "rgvc/grid/Shapes.hpp"
+#include "rgvc/grid/TbvMatrix.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,9 +58,20 @@ using ObjectId = std::uint64_t;
 template <int D> struct ObjectDesc {
     ObjectId id = 0;
     Shape<D> shape;        ///< [World units] current placement.
-    bool isStatic = false; ///< Never moves (§4.5): discretized once.
-    double maxSpeed = 0;   ///< [World units per frame] >= 0; bounds the motion of hidden objects.
+    bool isStatic = false; ///< Never moves (§4.5): discretized once, never asked for, never given a TBV.
+    /// [World units per frame] [Limit] finite, >= 0. Bounds how far the object moves between two cull()
+    /// calls; sizes its TBVs. 0: the object moves only by updateObject, so, like a static one, it is
+    /// never asked for its placement and never gets a TBV.
+    double maxSpeed = 0;
 };
+
+/// The application's answer to "where is object `id` now?", in world units. Called by cull() only for
+/// non-static objects, at most once per object per cull(). Must return a valid shape (validateShape) for
+/// an id the culler holds. If it throws or returns an invalid shape, cull() still completes conservatively
+/// (the object is reported in the PVS until a later query succeeds) and then rethrows the exception, or
+/// throws InvalidInput naming the object; lastResult() holds the frame's result.
+template <int D> using PlacementQuery = std::function<Shape<D>(ObjectId)>;
+
 
 /// Which conservative shortcut a frame took instead of the full grid algorithm.
 enum class Fallback : std::uint8_t {
@@ -46,7 +81,8 @@ enum class Fallback : std::uint8_t {
 const char* toString(Fallback f);
 
 struct CullStats {
-    double cullMs = 0;                    ///< wall time of this cull() call
+    double cullMs = 0;                    ///< wall time of this cull() call, scene update included
+    double updateMs = 0;                  ///< of cullMs: the scene update before the traversal (§4.1)
     std::uint32_t objectCount = 0;
     std::uint32_t pvsSize = 0;
     std::uint32_t layers = 0;             ///< chess-metric layers traversed
@@ -57,6 +93,20 @@ struct CullStats {
     std::uint64_t shadows = 0;            ///< occlusion polygons rasterized into H (§4.4)
     std::uint64_t voxelsMarkedOccluded = 0;
     bool earlyTermination = false;        ///< a layer was all occluded or opaque (§4.2)
+    // Scene discretization of this frame (§4.1). Its time is part of cullMs, including placement queries.
+    std::uint32_t placementQueries = 0;   ///< calls of the placement query
+    std::uint32_t trackedObjects = 0;     ///< non-static objects held in O and I after the frame
+    std::uint32_t hiddenObjects = 0;      ///< objects held only by a TBV after the frame
+    std::uint32_t tbvsCreated = 0;        ///< objects that left the PVS and got a TBV
+    std::uint32_t tbvsRenewed = 0;        ///< expired TBVs rebuilt around the object's current placement
+    std::uint32_t tbvsRevealed = 0;       ///< TBVs met in a visited, non-occluded voxel: object re-inserted
+    std::uint32_t tbvsRefused = 0;        ///< objects kept in O and I: a TBV would touch the camera voxel or leave the grid
+    bool cameraJump = false;              ///< boundary TBVs: the camera voxel moved > 1 voxel on some axis (or entered the grid); every TBV was checked against it
+    std::uint32_t tbvsRevealedByJump = 0; ///< of those, TBVs that held the new camera voxel
+    std::uint32_t speedViolations = 0;    ///< objects found outside their TBV: they moved faster than maxSpeed
+    std::uint32_t parkedObjects = 0;      ///< objects whose placement query failed; always in the PVS
+    std::uint64_t gridWrites = 0;         ///< I, O and T incidences written by this frame's update
+    bool tbvLookupsSkipped = false;       ///< no TBV existed during the traversal: T was not read at all
     bool occlusionSkipped = false;        ///< no opaque voxel was met: no occlusion work at all
     Fallback fallback = Fallback::None;
     std::uint32_t objectsOutsideGrid = 0; ///< objects partly outside the grid, tested against the view region
@@ -75,6 +125,7 @@ struct VoxelState {
     bool visited = false;  ///< reached by the traversal
     bool occluder = false; ///< part of an extended occluder
     bool hasIds = false;   ///< I non-empty
+    bool hasTbv = false;   ///< some TBV is discretized into this voxel (T)
 };
 
 struct CullerOptions {
@@ -85,6 +136,16 @@ struct CullerOptions {
     /// 3D: test each voxel against the caps of shells k-1, k-2, k-4, ... (true) or only k-1 (false:
     /// layer-by-layer propagation).
     bool occluderExtension = true;
+    /// Hidden non-static objects are held by temporal bounding volumes (true), or every non-static object
+    /// is re-placed in O and I every frame (false: the re-insert baseline).
+    bool temporalBoundingVolumes = true;
+    /// How a TBV is written into T (TbvMatrix.hpp): its boundary (the paper's choice) or its whole region.
+    TbvDiscretization tbvDiscretization = TbvDiscretization::Boundary;
+    /// [Frames] [Limit] 1..65536. The longest validity of a TBV of a moving object.
+    std::uint32_t tbvMaxFrames = 256;
+    /// [Voxels] [Limit] finite, > 0. A TBV's radius grows by at most this over its validity: slow objects
+    /// get long validities, fast ones short (cost of renewals against cost of larger TBVs).
+    double tbvMaxGrowth = 4.0;
 };
 
 template <int D> class Culler {
@@ -103,7 +164,8 @@ public:
     /// Adds an object at its current placement.
     /// @throws InvalidInput on a duplicate id, an invalid shape or a negative/non-finite maxSpeed.
     void addObject(const ObjectDesc<D>& object);
-    /// Moves or reshapes an object. Cost: proportional to its old and new voxel footprints.
+    /// Moves or reshapes an object (push). Cost: proportional to its old and new voxel footprints, or O(1)
+    /// for a hidden object whose new placement stays inside its TBV.
     /// @throws InvalidInput on an unknown id or an invalid shape.
     void updateObject(ObjectId id, const Shape<D>& shape);
     /// @throws InvalidInput on an unknown id.
@@ -111,9 +173,13 @@ public:
     bool hasObject(ObjectId id) const;
     std::size_t objectCount() const;
 
-    /// Computes the potentially visible set for one camera.
-    /// @throws InvalidInput on an invalid camera (see validateCamera).
+    /// Computes the potentially visible set for one camera; objects are where add/updateObject put them.
+    /// @throws InvalidInput on an invalid camera (see validateCamera), before changing anything.
     const CullResult& cull(const Camera<D>& camera);
+    /// One frame of a dynamic scene: asks placementOf for the objects it needs (see the top of this file).
+    /// @throws InvalidInput on an invalid camera (before changing anything) or on an invalid placement
+    ///         (after completing the frame conservatively); rethrows what placementOf threw (likewise).
+    const CullResult& cull(const Camera<D>& camera, const PlacementQuery<D>& placementOf);
     const CullResult& lastResult() const;
 
     /// State of voxel v after the last cull; inGrid = false outside the grid.

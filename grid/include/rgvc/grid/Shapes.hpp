@@ -59,6 +59,22 @@ template <int D> inline Box<D> boundsOf(const Shape<D>& s) {
     return std::visit([](const auto& x) { return boundsOf(x); }, s);
 }
 
+/// A ball containing the shape (not always the smallest): centred on its bounding box, reaching its
+/// farthest point. Used to size temporal bounding volumes.
+template <int D> inline Ball<D> boundingBall(const Ball<D>& b) { return b; }
+template <int D> inline Ball<D> boundingBall(const Box<D>& b) {
+    return {(b.min + b.max) * 0.5, 0.5 * std::sqrt(lengthSquared<D>(b.max - b.min))};
+}
+inline Ball<2> boundingBall(const ConvexPolygon& p) {
+    const Box<2> box = boundsOf(p);
+    Ball<2> r{(box.min + box.max) * 0.5, 0.0};
+    for (const Vec2& q : p.points) r.radius = std::max(r.radius, std::sqrt(lengthSquared<2>(q - r.center)));
+    return r;
+}
+template <int D> inline Ball<D> boundingBall(const Shape<D>& s) {
+    return std::visit([](const auto& x) { return boundingBall(x); }, s);
+}
+
 template <int D> inline Ball<D> translated(const Ball<D>& b, const Vec<D>& t) { return {b.center + t, b.radius}; }
 template <int D> inline Box<D> translated(const Box<D>& b, const Vec<D>& t) { return {b.min + t, b.max + t}; }
 inline ConvexPolygon translated(const ConvexPolygon& p, const Vec2& t) {

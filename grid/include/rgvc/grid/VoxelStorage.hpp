@@ -14,9 +14,8 @@
 //                  free list. After warm-up no insertion allocates.
 //   U  used        a frame stamp marking voxels already part of an extended occluder this frame, so a
 //                  wall of n opaque voxels is extended once, not n times.
-//   T  TBVs        per-voxel lists of the slots whose temporal bounding volume covers the voxel (§4.1),
-//                  from the same kind of pool as I. Allocated on the first TBV: a scene with no moving
-//                  objects never allocates or touches T.
+//   T  TBVs        not here: T is read only at visited voxels and written only when TBVs change, and in
+//                  3D it is three projection planes, not a voxel matrix (TbvMatrix.hpp).
 //   Os             O is maintained incrementally (objects add and remove their own inner voxels) and never
 //                  rebuilt, so the paper's static occluder matrix is O's static part: a static object is
 //                  counted in once and stays; there is nothing to copy from Os into O each frame.
@@ -51,10 +50,6 @@ concept VoxelStorage = requires(S s, const S cs, VoxelKey k, ObjectSlot o, std::
     cs.forEachId(k, [](ObjectSlot) {});
     s.addId(k, o);
     s.removeId(k, o);
-    { cs.hasTbvs(k) } -> std::convertible_to<bool>;
-    cs.forEachTbv(k, [](ObjectSlot) {});
-    s.addTbv(k, o);
-    s.removeTbv(k, o);
     s.resetStamps();
 };
 
@@ -111,7 +106,7 @@ private:
 /// so that a traversal step touches one cache line, whatever the axis it walks along (profiling the 3D
 /// traversal, which walks x faces with a stride of a whole row, showed one miss per matrix per voxel with
 /// separate arrays), plus a 4-byte U stamp (read only at opaque voxels), 8 bytes per (voxel, object)
-/// incidence in I, and once the first TBV exists 4 bytes per voxel plus 8 per incidence for T.
+/// incidence in I.
 template <int D> class DenseStorage {
 public:
     explicit DenseStorage(const GridGeometry<D>& grid) : m_cells(grid.voxelCount()), m_used(grid.voxelCount(), 0) {}
@@ -134,29 +129,14 @@ public:
     void addId(VoxelKey k, ObjectSlot o) { m_ids.add(m_cells[k].head, o); }
     void removeId(VoxelKey k, ObjectSlot o) { m_ids.remove(m_cells[k].head, o); }
 
-    bool hasTbvs(VoxelKey k) const { return !m_tbvHead.empty() && m_tbvHead[k] != kNone; }
-    template <class Fn> void forEachTbv(VoxelKey k, Fn&& fn) const {
-        if (!m_tbvHead.empty()) m_tbvs.forEach(m_tbvHead[k], fn);
-    }
-    void addTbv(VoxelKey k, ObjectSlot o) {
-        if (m_tbvHead.empty()) m_tbvHead.assign(m_cells.size(), kNone); // first TBV of the scene
-        m_tbvs.add(m_tbvHead[k], o);
-    }
-    void removeTbv(VoxelKey k, ObjectSlot o) {
-        if (!m_tbvHead.empty()) m_tbvs.remove(m_tbvHead[k], o);
-    }
-    /// Whether T exists at all (it is created by the first addTbv).
-    bool tbvAllocated() const { return !m_tbvHead.empty(); }
-
     /// Called when the frame stamp wraps around: every stamp back to "never".
     void resetStamps() {
         for (Cell& c : m_cells) c.occluded = c.visited = 0;
         std::fill(m_used.begin(), m_used.end(), 0);
     }
 
-    /// Incidences currently stored in I and in T (for stats and consistency tests).
+    /// Incidences currently stored in I (for stats and consistency tests).
     std::size_t idCount() const { return m_ids.size(); }
-    std::size_t tbvCount() const { return m_tbvs.size(); }
 
 private:
     struct Cell {
@@ -168,8 +148,6 @@ private:
     std::vector<Cell> m_cells;
     std::vector<std::uint32_t> m_used;
     SlotListPool m_ids;
-    std::vector<std::uint32_t> m_tbvHead; // T's list heads; empty until the first TBV
-    SlotListPool m_tbvs;
 };
 
 static_assert(VoxelStorage<DenseStorage<2>>);

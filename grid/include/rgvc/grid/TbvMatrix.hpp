@@ -1,0 +1,265 @@
+// T, the temporal-bounding-volume matrix (seed 004 §3, §4.1, §5.2), and how a TBV is discretized into it.
+//
+// A TBV bounds where a hidden moving object can be until the TBV expires (Sudarsky and Gotsman): a disc
+// (2D) or an axis-aligned cube (3D) around the object's position when it was hidden, of radius (cube:
+// half-side) R + maxSpeed * validity. The culler chooses the validity; this file only stores regions.
+// A region's id goes into T only on its *boundary*, the paper's choice:
+//
+//   2D: every voxel the circle touches (closed voxels, with kConservativeSlack). The paper draws this ring
+//       with a Bresenham circle modified for 4-connected curves; we compute it row by row from the exact
+//       touch predicate instead, because the argument below needs exactly "every voxel the circle
+//       touches", and a Bresenham walk decides by voxel centres, which can skip a voxel that the circle
+//       clips at a corner. The result is a 4-connected ring, one or two voxels thick.
+//   3D: the outer shell of the cube's voxel box [lo, hi]^3, stored as the rectangle outlines of its three
+//       orthographic projections in Txy, Txz and Tyz (§5.2): 12 (hi - lo + 1) writes instead of
+//       6 (hi - lo + 1)^2. A voxel (x, y, z) holds the TBV iff at least two of Txy(x, y), Txz(x, z),
+//       Tyz(y, z) do (the paper's (Txy v Tyz) ^ (Txy v Txz) ^ (Tyz v Txz)): any two of the projections put
+//       all three coordinates in [lo, hi], and each outline adds "on a bound" for one of its two axes, so
+//       the voxel is on the shell; conversely a shell voxel with x on a bound is on the Txy and Txz
+//       outlines (likewise for y and z).
+//
+// Why the boundary suffices (§4.1 and its reference [3]). Let the camera's voxel lie outside the region
+// (2D: it does not touch the disc; 3D: its index is outside [lo, hi] on some axis). A visible point p of
+// the object lies inside the region; the open segment from the camera to p is unobstructed, so it crosses
+// the region's boundary (2D: the circle; 3D: the surface of the voxel box) at some point q before p.
+// Every voxel containing q is in T, touches the view region (q is on a view ray), and is not in H (q is
+// visible, and H holds only voxels hidden at all their points), so the traversal visits it and reveals
+// the TBV, in a layer no farther than p's (along a ray leaving the camera's voxel, the chess distance of
+// the voxels met never decreases). The condition on the camera survives frame to frame if the camera's
+// voxel moves by at most one voxel per axis: it cannot enter the region without standing on the
+// boundary, where layer 0 reveals it (2D: a voxel sharing a point with a voxel that misses the disc
+// either misses the disc or touches the circle; 3D: an index enters [lo, hi] only at lo or hi). For
+// larger moves the culler checks every TBV against the new camera voxel (CullStats::cameraJump).
+//
+// The filled variant stores the whole region (2D: every voxel the disc touches; 3D: filled rectangles,
+// the same 2-of-3 test then selects the voxel box). It needs no condition on the camera and costs area
+// instead of perimeter; it is kept as an option to compare against (CullerOptions::tbvDiscretization).
+//
+// Regions may reach outside the grid: only in-grid voxels are stored. For a camera and an object point
+// inside the grid this stays correct, since the segment between them stays in the (convex) grid and
+// crosses the clipped region's boundary there.
+#pragma once
+
+#include "rgvc/grid/Math.hpp"
+#include "rgvc/grid/VoxelStorage.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace rgvc {
+
+/// A TBV's region. [Units] voxel units of the grid. 2D: closed disc; 3D: closed axis-aligned cube.
+template <int D> struct TbvRegion {
+    Vec<D> centre{0.0};
+    double radius = 0; ///< [Voxel units] disc radius or cube half-side, >= 0, slack included
+};
+
+enum class TbvDiscretization : std::uint8_t {
+    Boundary, ///< ring (2D) or shell outlines (3D): the paper's choice; needs a continuous camera path
+    Filled,   ///< the whole region: no condition on the camera, more T writes
+};
+
+/// [Voxel units] Distance from c to the closed voxel v in the region's metric: Euclidean in 2D (discs),
+/// Chebyshev in 3D (cubes). A region touches v iff tbvGap(centre, v) <= radius (+ slack).
+inline double tbvGap(const Vec2& c, const IVec2& v) {
+    const double dx = std::max({double(v.x) - c.x, c.x - double(v.x + 1), 0.0});
+    const double dy = std::max({double(v.y) - c.y, c.y - double(v.y + 1), 0.0});
+    return std::sqrt(dx * dx + dy * dy);
+}
+inline double tbvGap(const Vec3& c, const IVec3& v) {
+    double g = 0;
+    for (int a = 0; a < 3; ++a) g = std::max({g, double(v[a]) - c[a], c[a] - double(v[a] + 1)});
+    return g;
+}
+template <int D> inline bool tbvTouches(const TbvRegion<D>& r, const IVec<D>& v) {
+    return tbvGap(r.centre, v) <= r.radius + kConservativeSlack;
+}
+
+/// Calls fn(y, x0, x1) for each run of voxels [x0, x1] of row y that the disc's discretization covers,
+/// clipped to the grid [0, res). Boundary: voxels touched by the circle (touched by the disc and not
+/// entirely inside its open interior); Filled: voxels touched by the disc.
+template <class Fn> void forEachTbvRun2D(const TbvRegion<2>& r, const IVec2& res, TbvDiscretization mode, Fn&& fn) {
+    const Vec2 c = r.centre;
+    const double outer = r.radius + kConservativeSlack; // touch test errs towards touching
+    const double inner = r.radius - kConservativeSlack; // "entirely inside" errs towards not
+    const std::int32_t y0 = std::max<std::int32_t>(0, std::int32_t(std::ceil(c.y - outer)) - 1);
+    const std::int32_t y1 = std::min<std::int32_t>(res.y - 1, std::int32_t(std::floor(c.y + outer)));
+    for (std::int32_t y = y0; y <= y1; ++y) {
+        const double dyMin = std::max({double(y) - c.y, c.y - double(y + 1), 0.0});
+        if (dyMin > outer) continue;
+        const double wOut = std::sqrt(outer * outer - dyMin * dyMin);
+        // Voxel x touches [c.x - w, c.x + w] iff x <= c.x + w and x + 1 >= c.x - w.
+        const std::int32_t t0 = std::max<std::int32_t>(0, std::int32_t(std::ceil(c.x - wOut)) - 1);
+        const std::int32_t t1 = std::min<std::int32_t>(res.x - 1, std::int32_t(std::floor(c.x + wOut)));
+        if (t0 > t1) continue;
+        const double dyMax = std::max(std::abs(double(y) - c.y), std::abs(double(y + 1) - c.y));
+        if (mode == TbvDiscretization::Filled || !(inner > dyMax)) {
+            fn(y, t0, t1);
+            continue;
+        }
+        // Entirely inside the open disc: every corner is, i.e. x > c.x - w and x + 1 < c.x + w.
+        const double wIn = std::sqrt(inner * inner - dyMax * dyMax);
+        const std::int32_t i0 = std::int32_t(std::floor(c.x - wIn)) + 1;
+        const std::int32_t i1 = std::int32_t(std::ceil(c.x + wIn)) - 2;
+        if (i0 > i1) {
+            fn(y, t0, t1);
+            continue;
+        }
+        if (t0 <= i0 - 1) fn(y, t0, std::min(t1, i0 - 1));
+        if (i1 + 1 <= t1) fn(y, std::max(t0, i1 + 1), t1);
+    }
+}
+
+/// The voxel box [lo, hi] touched by a cube region, clipped to the grid; false if it misses the grid.
+inline bool tbvVoxelBox3D(const TbvRegion<3>& r, const IVec3& res, IVec3& lo, IVec3& hi) {
+    const double outer = r.radius + kConservativeSlack;
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = std::max<std::int32_t>(0, std::int32_t(std::ceil(r.centre[a] - outer)) - 1);
+        hi[a] = std::min<std::int32_t>(res[a] - 1, std::int32_t(std::floor(r.centre[a] + outer)));
+        if (lo[a] > hi[a]) return false;
+    }
+    return true;
+}
+
+template <int D> class TbvMatrix;
+
+/// 2D T: one list of TBV slots per voxel. Allocated on the first insert (a scene without moving objects
+/// never allocates or reads it).
+template <> class TbvMatrix<2> {
+public:
+    explicit TbvMatrix(const IVec2& res) : m_res(res) {}
+
+    /// Adds the slot's region. Returns the number of voxel incidences written.
+    std::size_t insert(ObjectSlot slot, const TbvRegion<2>& r, TbvDiscretization mode) {
+        if (m_heads.empty()) m_heads.assign(std::size_t(m_res.x) * std::size_t(m_res.y), kNone);
+        std::size_t n = 0;
+        forEachTbvRun2D(r, m_res, mode, [&](std::int32_t y, std::int32_t x0, std::int32_t x1) {
+            for (std::int32_t x = x0; x <= x1; ++x) m_lists.add(m_heads[key(x, y)], slot);
+            n += std::size_t(x1 - x0 + 1);
+        });
+        ++m_live;
+        return n;
+    }
+    /// Removes a region added with the same arguments. Returns the incidences removed.
+    std::size_t erase(ObjectSlot slot, const TbvRegion<2>& r, TbvDiscretization mode) {
+        std::size_t n = 0;
+        forEachTbvRun2D(r, m_res, mode, [&](std::int32_t y, std::int32_t x0, std::int32_t x1) {
+            for (std::int32_t x = x0; x <= x1; ++x) n += m_lists.remove(m_heads[key(x, y)], slot);
+        });
+        --m_live;
+        return n;
+    }
+    /// Appends the slots whose TBV covers voxel v (in the grid) to out.
+    void collectAt(const IVec2& v, std::vector<ObjectSlot>& out) const {
+        if (m_live == 0) return;
+        m_lists.forEach(m_heads[key(v.x, v.y)], [&](ObjectSlot s) { out.push_back(s); });
+    }
+    bool holdsAt(const IVec2& v) const { return m_live != 0 && m_heads[key(v.x, v.y)] != kNone; }
+
+    std::size_t liveRegions() const { return m_live; }
+    bool allocated() const { return !m_heads.empty(); }
+    std::size_t incidences() const { return m_lists.size(); }
+
+private:
+    std::size_t key(std::int32_t x, std::int32_t y) const { return std::size_t(x) + std::size_t(y) * std::size_t(m_res.x); }
+    IVec2 m_res;
+    std::vector<std::uint32_t> m_heads;
+    SlotListPool m_lists;
+    std::size_t m_live = 0;
+};
+
+/// 3D T as three projection planes Txy, Txz, Tyz of slot lists (§5.2). Allocated on the first insert.
+template <> class TbvMatrix<3> {
+public:
+    explicit TbvMatrix(const IVec3& res) : m_res(res) {}
+
+    std::size_t insert(ObjectSlot slot, const TbvRegion<3>& r, TbvDiscretization mode) {
+        if (m_xy.empty()) {
+            m_xy.assign(std::size_t(m_res.x) * std::size_t(m_res.y), kNone);
+            m_xz.assign(std::size_t(m_res.x) * std::size_t(m_res.z), kNone);
+            m_yz.assign(std::size_t(m_res.y) * std::size_t(m_res.z), kNone);
+        }
+        if (slot >= m_seen.size()) {
+            m_seen.resize(std::size_t(slot) + 1, 0);
+            m_emitted.resize(std::size_t(slot) + 1, 0);
+        }
+        ++m_live;
+        return forEachCell(r, mode, [&](std::uint32_t& head) { m_lists.add(head, slot); });
+    }
+    std::size_t erase(ObjectSlot slot, const TbvRegion<3>& r, TbvDiscretization mode) {
+        --m_live;
+        return forEachCell(r, mode, [&](std::uint32_t& head) { m_lists.remove(head, slot); });
+    }
+    /// Appends the slots held by at least two of Txy(x, y), Txz(x, z), Tyz(y, z). Cost: one read per plane,
+    /// plus the three lists' lengths when two or more are non-empty.
+    void collectAt(const IVec3& v, std::vector<ObjectSlot>& out) {
+        if (m_live == 0) return;
+        const std::uint32_t a = m_xy[xy(v.x, v.y)], b = m_xz[xz(v.x, v.z)], c = m_yz[yz(v.y, v.z)];
+        if (int(a != kNone) + int(b != kNone) + int(c != kNone) < 2) return;
+        if (++m_stamp == 0) { // wrapped: forget every old stamp
+            std::fill(m_seen.begin(), m_seen.end(), 0);
+            std::fill(m_emitted.begin(), m_emitted.end(), 0);
+            m_stamp = 1;
+        }
+        m_lists.forEach(a, [&](ObjectSlot s) { m_seen[s] = m_stamp; });
+        m_lists.forEach(b, [&](ObjectSlot s) {
+            if (m_seen[s] == m_stamp) {
+                m_emitted[s] = m_stamp;
+                out.push_back(s);
+            } else {
+                m_seen[s] = m_stamp;
+            }
+        });
+        m_lists.forEach(c, [&](ObjectSlot s) {
+            if (m_seen[s] == m_stamp && m_emitted[s] != m_stamp) out.push_back(s);
+        });
+    }
+    bool holdsAt(const IVec3& v) const {
+        if (m_live == 0) return false;
+        return int(m_xy[xy(v.x, v.y)] != kNone) + int(m_xz[xz(v.x, v.z)] != kNone) + int(m_yz[yz(v.y, v.z)] != kNone) >= 2;
+    }
+
+    std::size_t liveRegions() const { return m_live; }
+    bool allocated() const { return !m_xy.empty(); }
+    std::size_t incidences() const { return m_lists.size(); }
+
+private:
+    std::size_t xy(std::int32_t x, std::int32_t y) const { return std::size_t(x) + std::size_t(y) * std::size_t(m_res.x); }
+    std::size_t xz(std::int32_t x, std::int32_t z) const { return std::size_t(x) + std::size_t(z) * std::size_t(m_res.x); }
+    std::size_t yz(std::int32_t y, std::int32_t z) const { return std::size_t(y) + std::size_t(z) * std::size_t(m_res.y); }
+
+    /// Calls fn(head) for every plane cell of the region's projections; returns the count.
+    template <class Fn> std::size_t forEachCell(const TbvRegion<3>& r, TbvDiscretization mode, Fn&& fn) {
+        IVec3 lo, hi;
+        if (!tbvVoxelBox3D(r, m_res, lo, hi)) return 0;
+        std::size_t n = 0;
+        auto rect = [&](std::vector<std::uint32_t>& plane, std::int32_t stride, int au, int av) {
+            for (std::int32_t v = lo[av]; v <= hi[av]; ++v) {
+                const bool edgeRow = mode == TbvDiscretization::Filled || v == lo[av] || v == hi[av];
+                const std::size_t row = std::size_t(v) * std::size_t(stride);
+                if (edgeRow) {
+                    for (std::int32_t u = lo[au]; u <= hi[au]; ++u) fn(plane[row + std::size_t(u)]);
+                    n += std::size_t(hi[au] - lo[au] + 1);
+                } else {
+                    fn(plane[row + std::size_t(lo[au])]);
+                    if (hi[au] != lo[au]) fn(plane[row + std::size_t(hi[au])]);
+                    n += hi[au] != lo[au] ? 2 : 1;
+                }
+            }
+        };
+        rect(m_xy, m_res.x, 0, 1);
+        rect(m_xz, m_res.x, 0, 2);
+        rect(m_yz, m_res.y, 1, 2);
+        return n;
+    }
+
+    IVec3 m_res;
+    std::vector<std::uint32_t> m_xy, m_xz, m_yz;
+    SlotListPool m_lists;
+    std::vector<std::uint32_t> m_seen, m_emitted; // per slot: stamps of the current collectAt
+    std::uint32_t m_stamp = 0;
+    std::size_t m_live = 0;
+};
+
+} // namespace rgvc
