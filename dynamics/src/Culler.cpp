@@ -443,7 +443,10 @@ template <int D> struct Culler<D>::Impl {
                     enter(slot, State::Parked);
                     continue;
                 }
-                if (!ballInside(boundingBall<D>(p->local), old)) ++st.speedViolations;
+                // The TBV covered up to the frame before this one: one more step is allowed.
+                TbvRegion<D> grown = old;
+                grown.radius += r.maxSpeed / grid.voxelSize() * (1 + 1e-12);
+                if (!ballInside(boundingBall<D>(p->local), grown)) ++st.speedViolations;
                 TbvRegion<D> region;
                 std::uint64_t expiry = 0;
                 if (buildTbv(r, *p, cameraIn, camera, region, expiry)) {
