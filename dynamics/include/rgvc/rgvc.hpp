@@ -28,8 +28,13 @@
 //           touches until a layer that blocks every ray. Objects or cameras outside the grid take a
 //           view-region-only fallback, reported in CullStats. Floating point errs the same way (see
 //           kConservativeSlack and GridGeometry::conversionSlack).
+// Frames    One frame = one cull() call. maxSpeed is in world units per frame. A hidden moving object
+//           is held by a temporal bounding volume (TBV) that contains it until it expires (seed 004
+//           §4.1); with boundary TBVs the camera voxel should move at most one voxel per axis per
+//           frame, and larger moves cost a check of every TBV (CullStats::cameraJump), never a miss.
 // Errors    Public functions validate first and throw rgvc::InvalidInput ("field: what"), leaving the
-//           object unchanged. Per-frame work never throws and never allocates per voxel.
+//           object unchanged. Per-frame work never throws and never allocates per voxel; a failing
+//           placement query is reported after the frame has completed conservatively.
 // Threads   A Culler is not thread-safe; use one per thread.
 //
 // Modules: rgvc::grid (geometry, rasterization, traversal, occlusion; no GL/IO) and rgvc::dynamics
