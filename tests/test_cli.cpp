@@ -327,6 +327,7 @@ TEST_CASE("example scenes: every exactly visible object is in the printed PVS", 
     };
     for (const Example& e : {Example{"small-2d.json", 60, ""}, Example{"small-2d.json", 30, "--no-extension"},
                              Example{"small-2d.json", 10, "--no-occlusion"}, Example{"walk-2d.json", 60, ""},
+                             Example{"walk-2d.json", 60, "--filled-tbv"}, Example{"walk-2d.json", 30, "--no-tbv"},
                              Example{"fig1-2d.json", 4, ""}}) {
         INFO(e.file << " " << e.flags);
         const std::string path = scenePath(e.file);
@@ -354,6 +355,13 @@ TEST_CASE("example scenes: every exactly visible object is in the printed PVS", 
         // Occlusion must do something on the dense scenes; a loose bound, not a benchmark.
         if (std::string(e.flags).empty() && std::string(e.file) == "fig1-2d.json")
             CHECK(pvsTotal < 300 * e.frames / 2);
+        // The motion goes through the TBV path: hidden moving objects are held by TBVs, not re-placed.
+        if (std::string(e.file) == "walk-2d.json") {
+            const json& last = lines.back()["stats"];
+            const bool tbv = std::string(e.flags) != "--no-tbv";
+            CHECK((last["hidden_objects"].get<int>() > 0) == tbv);
+            CHECK(last["speed_violations"].get<int>() == 0);
+        }
         CHECK(visibleTotal > 0); // the check above was not vacuous
         CHECK(pvsTotal >= visibleTotal);
     }
@@ -376,4 +384,16 @@ TEST_CASE("cameras and objects outside the grid are legal", "[cli]") {
     std::vector<rgvc::ObjectId> pvs = lines[0]["pvs"].get<std::vector<rgvc::ObjectId>>();
     CHECK(std::includes(pvs.begin(), pvs.end(), exact.begin(), exact.end()));
     CHECK(std::binary_search(pvs.begin(), pvs.end(), rgvc::ObjectId(40))); // in front of the camera, unoccluded
+}
+
+TEST_CASE("rgvc demo --frames runs the motion through the TBV path and draws T", "[cli][tbv]") {
+    const std::string png = (tempDir() / "demo-frames.png").string();
+    Run r = runRgvc("demo " + quote(scenePath("walk-2d.json")) + " --frames 30 --runs 2 --size 256 --out " + quote(png));
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.out.find("dynamics: frame 29") != std::string::npos);
+    CHECK(r.out.find("hidden by TBVs 0,") == std::string::npos);
+    CHECK(fs::file_size(png) > 1000);
+    Run bad = runRgvc("demo " + quote(scenePath("walk-2d.json")) + " --frames 0");
+    CHECK(bad.status == 2);
 }

@@ -1,9 +1,12 @@
-// `rgvc demo [SCENE.json] [--out PATH.png] [--runs N] [--size PIXELS]`: culls a 2D scene once, prints a
-// summary and writes a picture of the grid in the style of the paper's Figure 1 (rgvc::render).
+// `rgvc demo [SCENE.json] [--out PATH.png] [--frames N] [--runs N] [--size PIXELS]`: culls a 2D scene,
+// prints a summary and writes a picture of the grid in the style of the paper's Figure 1 (rgvc::render).
+// With --frames N the scene's motion runs through the culler's TBV path first (as `rgvc cull` does), so the
+// picture shows the TBV boundaries in T of the hidden moving objects.
 //
 // The default scene is RGVC_DEFAULT_SCENE (set by apps/CMakeLists.txt to the source tree's
 // scenes/fig1-2d.json), else scenes/fig1-2d.json relative to the current directory.
 #include "SceneFile.hpp"
+#include "SceneMotion.hpp"
 
 #include "rgvc/dynamics/Culler.hpp"
 #include "rgvc/grid/Error.hpp"
@@ -27,17 +30,18 @@ int runDemo(int argc, char** argv);
 namespace {
 
 const char* const kDemoUsage =
-    "usage: rgvc demo [SCENE.json] [--out PATH.png] [--runs N] [--size PIXELS]\n"
+    "usage: rgvc demo [SCENE.json] [--out PATH.png] [--frames N] [--runs N] [--size PIXELS]\n"
     "\n"
-    "Culls a 2D scene for its camera (frame 0), prints a summary and writes a picture of the grid\n"
-    "after the cull, in the style of Figure 1 of the paper: opaque voxels dark gray, occluded light\n"
-    "gray, visited pale yellow, extended occluders purple, PVS objects blue, hidden objects red, view\n"
-    "edges solid, line of sight dashed, camera a black dot.\n"
+    "Culls a 2D scene for its camera, prints a summary and writes a picture of the grid after the\n"
+    "last cull, in the style of Figure 1 of the paper: opaque voxels dark gray, occluded light gray,\n"
+    "visited pale yellow, extended occluders purple, TBV boundaries (T) teal, PVS objects blue, hidden\n"
+    "objects red, view edges solid, line of sight dashed, camera a black dot.\n"
     "\n"
     "arguments:\n"
     "  SCENE.json      a 2D scene file (default: the repository's scenes/fig1-2d.json)\n"
     "  --out PATH.png  where to write the picture (default: rgvc-demo.png)\n"
-    "  --runs N        cull N times (same camera) and report the median time (default: 10)\n"
+    "  --frames N      run the scene's motion for N frames first (default: 1, just frame 0)\n"
+    "  --runs N        cull the last frame N times and report the median time (default: 10)\n"
     "  --size PIXELS   about the longer side of the grid in the picture (default: 1024)\n"
     "  -h, --help      this text\n"
     "\n"
@@ -98,6 +102,7 @@ struct DemoArgs {
     std::string scene;
     std::string out = "rgvc-demo.png";
     long runs = 10;
+    long frames = 1;
     long size = 1024;
     bool help = false;
 };
@@ -116,6 +121,8 @@ DemoArgs parseArgs(int argc, char** argv) {
         } else if (arg == "--out") {
             a.out = value();
             if (a.out.empty()) throw DemoError("--out: empty path");
+        } else if (arg == "--frames") {
+            a.frames = parseCount(arg, value(), 1, 1000000);
         } else if (arg == "--runs") {
             a.runs = parseCount(arg, value(), 1, 1000000);
         } else if (arg == "--size") {
@@ -139,7 +146,9 @@ int demo(const DemoArgs& args) {
         throw DemoError(scenePath + ": the demo draws 2D scenes only (this one has " +
                         std::to_string(scene.dimensions) + " dimensions)");
 
-    const Camera2 camera = data->cameraAt(0);
+    requireFrames(scene, std::size_t(args.frames));
+    const std::size_t lastFrame = std::size_t(args.frames) - 1;
+    const Camera2 camera = data->cameraAt(lastFrame);
     Culler2D culler(data->grid);
     std::vector<ObjectDesc<2>> objects;
     objects.reserve(data->objects.size());
@@ -149,12 +158,20 @@ int demo(const DemoArgs& args) {
         culler.addObject(objects.back());
         staticCount += o.isStatic ? 1 : 0;
     }
+    // The motion reaches the culler through its placement queries (the TBV path).
+    SceneSimulator2 sim(*data);
+    const PlacementQuery<2> placementOf = [&sim](ObjectId id) { return sim.shape(id); };
+    for (std::size_t t = 0; t < lastFrame; ++t) {
+        culler.cull(data->cameraAt(t), placementOf);
+        sim.step();
+    }
+    for (std::size_t i = 0; i < objects.size(); ++i) objects[i].shape = sim.shapeAt(i);
 
     std::vector<double> timesMs;
     timesMs.reserve(std::size_t(args.runs));
     for (long run = 0; run < args.runs; ++run) {
         const auto t0 = std::chrono::steady_clock::now();
-        culler.cull(camera);
+        culler.cull(camera, placementOf);
         const auto t1 = std::chrono::steady_clock::now();
         timesMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     }
@@ -173,7 +190,7 @@ int demo(const DemoArgs& args) {
     opt.caption = std::filesystem::path(scenePath).filename().string() + "   grid " +
                   std::to_string(g.resolution().x) + " x " + std::to_string(g.resolution().y) + "   " +
                   std::to_string(objects.size()) + " objects   camera " + fmt(camera.position) + " fov " +
-                  fmt(camera.fovDeg);
+                  fmt(camera.fovDeg) + (lastFrame > 0 ? "   frame " + std::to_string(lastFrame) : "");
     const ImageRGB img = drawGridPicture(culler, camera, objects, opt);
     try {
         writePng(args.out, img);
@@ -203,6 +220,9 @@ int demo(const DemoArgs& args) {
     os << "          early termination " << (s.earlyTermination ? "yes" : "no") << ", occlusion skipped "
        << (s.occlusionSkipped ? "yes" : "no") << ", fallback " << toString(s.fallback)
        << ", objects outside the grid " << s.objectsOutsideGrid << "\n";
+    os << "dynamics: frame " << lastFrame << ", objects in O and I " << s.trackedObjects << " moving + " << staticCount
+       << " static, hidden by TBVs " << s.hiddenObjects << ", placements asked " << s.placementQueries
+       << ", TBVs revealed " << s.tbvsRevealed << "\n";
     os << "cull:     median " << fmt(medianMs) << " ms over " << n << " run" << (n == 1 ? "" : "s") << " (first "
        << fmt(firstMs) << " ms)\n";
     std::error_code ec;

@@ -17,6 +17,7 @@ RGB8 voxelCellColor(const VoxelState& s) {
     if (!s.inGrid) return picture::kEmpty;
     if (s.occluder) return picture::kOccluder;
     if (s.opaque) return picture::kOpaque;
+    if (s.hasTbv) return picture::kTbv;
     if (s.occluded) return picture::kOccluded;
     if (s.visited) return picture::kVisited;
     return picture::kEmpty;
@@ -61,6 +62,7 @@ constexpr LegendItem kLegendItems[] = {
     {Swatch::Fill, picture::kOpaque, "opaque (O)"},
     {Swatch::Fill, picture::kOccluded, "occluded (H)"},
     {Swatch::Fill, picture::kOccluder, "occluder"},
+    {Swatch::Fill, picture::kTbv, "TBV (T)"},
     {Swatch::IdDot, picture::kIdDot, "ids (I)"},
     {Swatch::PvsObject, picture::kPvs, "PVS object"},
     {Swatch::HiddenObject, picture::kHidden, "hidden object"},

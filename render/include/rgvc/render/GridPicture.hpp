@@ -39,6 +39,7 @@ inline constexpr RGB8 kVisited{255, 246, 196};    ///< reached, not occluded
 inline constexpr RGB8 kOpaque{85, 85, 85};        ///< O
 inline constexpr RGB8 kOccluded{200, 200, 200};   ///< H
 inline constexpr RGB8 kOccluder{92, 38, 118};     ///< part of an extended occluder
+inline constexpr RGB8 kTbv{0, 128, 128};          ///< T: a TBV's boundary (the paper draws these black)
 inline constexpr RGB8 kIdDot{120, 120, 140};      ///< I-voxel marker
 inline constexpr RGB8 kPvs{30, 80, 220};          ///< PVS object fill (translucent) and outline
 inline constexpr double kPvsFillAlpha = 0.35;
@@ -47,7 +48,7 @@ inline constexpr RGB8 kView{0, 0, 0};             ///< wedge edges, line of sigh
 inline constexpr RGB8 kText{20, 20, 20};
 } // namespace picture
 
-/// The fill colour of a voxel cell. Priority: occluder > opaque > occluded > visited > empty.
+/// The fill colour of a voxel cell. Priority: occluder > opaque > T > occluded > visited > empty.
 RGB8 voxelCellColor(const VoxelState& s);
 
 /// Where things land in a picture of a given grid.
