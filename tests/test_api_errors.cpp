@@ -253,6 +253,30 @@ TEST_CASE("Culler2D's constructor rejects grids over 2^20 voxels per axis", "[er
     CHECK(tpvs == std::vector<ObjectId>{1, 2});
 }
 
+TEST_CASE("Culler options: TBV limits are checked with their field", "[errors][tbv]") {
+    const GridGeometry2 g({0, 0}, 1, {16, 16});
+    auto withOptions = [&](auto change) {
+        CullerOptions o;
+        change(o);
+        return fieldOf([&] { Culler2D c(g, o); });
+    };
+    CHECK(withOptions([](CullerOptions& o) { o.tbvMaxFrames = 0; }) == "options.tbvMaxFrames");
+    CHECK(withOptions([](CullerOptions& o) { o.tbvMaxFrames = 65537; }) == "options.tbvMaxFrames");
+    CHECK(withOptions([](CullerOptions& o) { o.tbvMaxGrowth = 0; }) == "options.tbvMaxGrowth");
+    CHECK(withOptions([](CullerOptions& o) { o.tbvMaxGrowth = std::nan(""); }) == "options.tbvMaxGrowth");
+    CHECK(withOptions([](CullerOptions& o) { o.tbvMaxGrowth = INFINITY; }) == "options.tbvMaxGrowth");
+    CHECK(withOptions([](CullerOptions& o) { o.tbvDiscretization = TbvDiscretization(7); }) == "options.tbvDiscretization");
+    CHECK(fieldOf([&] { Culler3D c(GridGeometry3({0, 0, 0}, 1, {4, 4, 4}), CullerOptions{.tbvMaxFrames = 0}); }) ==
+          "options.tbvMaxFrames");
+    // Limits themselves are accepted.
+    CHECK(withOptions([](CullerOptions& o) { o.tbvMaxFrames = 65536; o.tbvMaxGrowth = 1e-9; }) == "<accepted>");
+
+    // An empty placement query is a bad argument, refused before the frame starts.
+    Culler2D culler(g);
+    culler.addObject({1, Ball<2>{{8, 8}, 1}, false, 0.5});
+    CHECK(fieldOf([&] { culler.cull(camera({1.5, 1.5}, {1, 1}, 90, INFINITY), PlacementQuery<2>{}); }) == "placementOf");
+}
+
 TEST_CASE("validateShape and validateCamera name the field under the caller's prefix", "[errors]") {
     for (const BadShape& b : badShapes()) {
         INFO(b.why);
