@@ -86,3 +86,41 @@ TEST_CASE("dynamics: 200 frames of moves leave the 3D grid as a fresh build woul
         runMoves<3>(seed, IVec3{20, 16, 24},
                     Camera3{.position = {10.3, 8.2, 1.5}, .direction = {0, 0, 1}, .fovDeg = 70});
 }
+
+TEST_CASE("a scene without moving objects allocates no T and writes nothing per frame", "[dynamics][tbv]") {
+    for (int dims : {2, 3}) {
+        INFO("dimensions " << dims);
+        auto run = [&](auto& culler, auto cameraAt) {
+            for (int f = 0; f < 40; ++f) {
+                const CullStats& s = culler.cull(cameraAt(f)).stats;
+                CHECK_FALSE(s.tbvMatrixAllocated);
+                CHECK(s.tbvLookupsSkipped);
+                CHECK(s.hiddenObjects == 0);
+                CHECK(s.placementQueries == 0);
+                CHECK(s.gridWrites == 0); // O and H cost what was written: nothing moved
+            }
+        };
+        if (dims == 2) {
+            Culler2D c(GridGeometry2({0, 0}, 1.0, {64, 64}));
+            std::mt19937_64 rng(7);
+            // Static objects, and non-static ones without a speed (they move only by updateObject).
+            for (ObjectId id = 0; id < 60; ++id) c.addObject({id, randomShape<2>(rng, 64), id % 2 == 0, 0});
+            run(c, [](int f) { return Camera2{.position = {2.5 + 0.5 * f, 30.5}, .direction = {1, 0.1}, .fovDeg = 90}; });
+            // A moving object changes that once it is hidden behind something.
+            c.addObject({100, Ball<2>{{62, 62}, 0.5}, false, 0.1});
+            c.addObject({101, Box<2>{{50, 40}, {52, 64}}, true, 0});
+            const Camera2 cam{.position = {2.5, 2.5}, .direction = {1, 0}, .fovDeg = 30};
+            c.cull(cam);
+            const CullStats& s = c.cull(cam).stats;
+            CHECK(s.tbvMatrixAllocated);
+            CHECK(s.hiddenObjects == 1);
+        } else {
+            Culler3D c(GridGeometry3({0, 0, 0}, 1.0, {32, 32, 32}));
+            std::mt19937_64 rng(8);
+            for (ObjectId id = 0; id < 40; ++id) c.addObject({id, randomShape<3>(rng, 32), id % 2 == 0, 0});
+            run(c, [](int f) {
+                return Camera3{.position = {2.5 + 0.5 * f, 16.5, 3.5}, .direction = {0.2, 0, 1}, .fovDeg = 60};
+            });
+        }
+    }
+}

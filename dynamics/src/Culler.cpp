@@ -577,6 +577,7 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
     st.hiddenObjects = std::uint32_t(hidden.size());
     st.parkedObjects = std::uint32_t(parked.size());
     st.gridWrites = writes;
+    st.tbvMatrixAllocated = tbvs.allocated();
     std::sort(result.pvs.begin(), result.pvs.end());
     st.pvsSize = std::uint32_t(result.pvs.size());
     st.cullMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -107,6 +107,7 @@ struct CullStats {
     std::uint32_t parkedObjects = 0;      ///< objects whose placement query failed; always in the PVS
     std::uint64_t gridWrites = 0;         ///< I, O and T incidences written by this frame's update
     bool tbvLookupsSkipped = false;       ///< no TBV existed during the traversal: T was not read at all
+    bool tbvMatrixAllocated = false;      ///< T exists (it is allocated by the first TBV, never before)
     bool occlusionSkipped = false;        ///< no opaque voxel was met: no occlusion work at all
     Fallback fallback = Fallback::None;
     std::uint32_t objectsOutsideGrid = 0; ///< objects partly outside the grid, tested against the view region
