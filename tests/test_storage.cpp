@@ -50,7 +50,7 @@ TEST_CASE("storage: I lists match a multiset model over random adds and removes"
     CHECK(s.idCount() == idTotal);
 }
 
-TEST_CASE("storage: O counts overlapping objects; stamps clear in O(1) and reset on wrap", "[storage]") {
+TEST_CASE("storage: O counts overlapping objects, stamps clear in O(1) and reset on wrap", "[storage]") {
     DenseStorage<2> s(GridGeometry2({0, 0}, 1.0, {4, 4}));
     s.addOpaque(3, +1);
     s.addOpaque(3, +1);

@@ -112,6 +112,7 @@ template <int D> struct Culler<D>::Impl {
         bool alive = false;
         std::uint64_t lastPvsFrame = 0; // frameIndex of the last PVS holding it
         std::uint64_t placedFrame = 0;  // frameIndex of its last successful placement query
+        std::uint64_t failedFrame = 0;  // frameIndex of its last failed placement query
         TbvRegion<D> tbv;
         std::uint64_t tbvExpiry = 0;    // first frame the TBV no longer covers
         std::uint32_t tbvGeneration = 0;
@@ -310,15 +311,20 @@ template <int D> struct Culler<D>::Impl {
         const double slack = 2 * grid.conversionSlack(p.worldMagnitude) + kConservativeSlack;
         const double base = b.radius + slack;
         if (!(base < room)) return false;
-        const double speed = r.maxSpeed / grid.voxelSize() * (1 + 1e-12); // [voxels per frame], > 0
+        const double speed = stepOf(r); // > 0: objects without a speed are static
         region.centre = b.center;
-        double frames = std::min<double>(options.tbvMaxFrames, std::max(1.0, std::floor(options.tbvMaxGrowth / speed)));
+        // (The 1e-9 keeps an exact quotient, 4 voxels / 1 voxel per frame, from rounding down to 3 frames.)
+        double frames = std::min<double>(options.tbvMaxFrames,
+                                         std::max(1.0, std::floor(options.tbvMaxGrowth / speed + 1e-9)));
         frames = std::min(frames, std::floor((room - base) / speed));
         if (!(frames >= 1)) return false;
         region.radius = base + speed * frames;
         expiry = frameIndex + std::uint64_t(frames) + 1; // covers this frame and the next `frames`
         return true;
     }
+
+    /// [Voxels per frame] how far the object may move in one frame, rounded up a little.
+    double stepOf(const Record& r) const { return r.maxSpeed / grid.voxelSize() * (1 + 1e-12); }
 
     static bool ballInside(const Ball<D>& b, const TbvRegion<D>& r) {
         if constexpr (D == 2) {
@@ -336,6 +342,7 @@ template <int D> struct Culler<D>::Impl {
     const Placement* fetch(ObjectSlot slot, CullStats& st) {
         Record& r = records[slot];
         if (query == nullptr || r.placedFrame == frameIndex) return &r.at;
+        if (r.failedFrame == frameIndex) return nullptr; // asked once this frame already
         ++st.placementQueries;
         try {
             Shape<D> s = (*query)(r.id);
@@ -346,9 +353,11 @@ template <int D> struct Culler<D>::Impl {
                 invalidField = e.field();
                 invalidWhat = std::string(e.what()).substr(e.field().size() + 2);
             }
+            r.failedFrame = frameIndex;
             return nullptr;
         } catch (...) {
             if (invalidField.empty() && !queryException) queryException = std::current_exception();
+            r.failedFrame = frameIndex;
             return nullptr;
         }
         r.placedFrame = frameIndex;
@@ -358,7 +367,9 @@ template <int D> struct Culler<D>::Impl {
     /// Moves a hidden object back into O and I (revealed, expired without a new TBV, camera jump).
     /// Returns false if it had to be parked.
     bool reveal(ObjectSlot slot, CullStats& st) {
-        const TbvRegion<D> old = records[slot].tbv;
+        TbvRegion<D> old = records[slot].tbv;
+        // A TBV expiring this frame covered up to the frame before (renewal has not run yet): one more step.
+        if (records[slot].tbvExpiry == frameIndex) old.radius += stepOf(records[slot]);
         detach(slot);
         const Placement* p = fetch(slot, st);
         if (p == nullptr) {
@@ -445,7 +456,7 @@ template <int D> struct Culler<D>::Impl {
                 }
                 // The TBV covered up to the frame before this one: one more step is allowed.
                 TbvRegion<D> grown = old;
-                grown.radius += r.maxSpeed / grid.voxelSize() * (1 + 1e-12);
+                grown.radius += stepOf(r);
                 if (!ballInside(boundingBall<D>(p->local), grown)) ++st.speedViolations;
                 TbvRegion<D> region;
                 std::uint64_t expiry = 0;

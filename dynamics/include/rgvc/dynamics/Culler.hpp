@@ -95,13 +95,13 @@ struct CullStats {
     bool earlyTermination = false;        ///< a layer was all occluded or opaque (§4.2)
     // Scene discretization of this frame (§4.1). Its time is part of cullMs, including placement queries.
     std::uint32_t placementQueries = 0;   ///< calls of the placement query
-    std::uint32_t trackedObjects = 0;     ///< non-static objects held in O and I after the frame
+    std::uint32_t trackedObjects = 0;     ///< moving objects (not static, maxSpeed > 0) held in O and I after the frame
     std::uint32_t hiddenObjects = 0;      ///< objects held only by a TBV after the frame
     std::uint32_t tbvsCreated = 0;        ///< objects that left the PVS and got a TBV
     std::uint32_t tbvsRenewed = 0;        ///< expired TBVs rebuilt around the object's current placement
     std::uint32_t tbvsRevealed = 0;       ///< TBVs met in a visited, non-occluded voxel: object re-inserted
     std::uint32_t tbvsRefused = 0;        ///< objects kept in O and I: a TBV would touch the camera voxel or leave the grid
-    bool cameraJump = false;              ///< boundary TBVs: the camera voxel moved > 1 voxel on some axis (or entered the grid); every TBV was checked against it
+    bool cameraJump = false;              ///< boundary TBVs existed and the camera voxel moved > 1 voxel on some axis (or entered the grid): every TBV was checked against it
     std::uint32_t tbvsRevealedByJump = 0; ///< of those, TBVs that held the new camera voxel
     std::uint32_t speedViolations = 0;    ///< objects found outside their TBV: they moved faster than maxSpeed
     std::uint32_t parkedObjects = 0;      ///< objects whose placement query failed; always in the PVS

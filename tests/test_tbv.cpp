@@ -1,0 +1,465 @@
+// TbvMatrix (T) against brute force: thousands of random TBV regions, 2D discs and 3D cubes, both
+// discretizations, clipped by the grid, several at once.
+//
+// The discretization is where a TBV either works or silently loses its object, so each voxel is
+// classified independently of TbvMatrix.hpp (distances from the centre to the closed square/cube,
+// computed here) as "must hold the slot", "may hold it" (within a few kConservativeSlack of the
+// decision, where rounding may go either way) or "must not". Then the property that makes the ring
+// enough (TbvMatrix.hpp, "Why the boundary suffices") is checked directly: a segment from a camera
+// outside the region to any point inside it crosses a voxel holding the slot before it gets there.
+// Every failure prints the seed and the region.
+#include "SeededRandom.hpp"
+
+#include "rgvc/grid/TbvMatrix.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace rgvc;
+namespace sr = rgvc::reference::seeded;
+
+namespace {
+
+enum class Expect { Must, May, MustNot };
+
+// Width of the "may" band around a decision: the header's slack on each side plus rounding.
+constexpr double kBand = 4 * kConservativeSlack;
+
+std::string describe(const TbvRegion<2>& r) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "disc centre (" << r.centre.x << ", " << r.centre.y << ") radius " << r.radius;
+    return os.str();
+}
+std::string describe(const TbvRegion<3>& r) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "cube centre (" << r.centre.x << ", " << r.centre.y << ", " << r.centre.z << ") half-side " << r.radius;
+    return os.str();
+}
+
+// Nearest and farthest distance from c to the closed unit square of voxel v (Euclidean), computed
+// without TbvMatrix.hpp's helpers.
+void squareDistances(const Vec2& c, const IVec2& v, double& nearest, double& farthest) {
+    const double nx = std::clamp(c.x, double(v.x), double(v.x) + 1), ny = std::clamp(c.y, double(v.y), double(v.y) + 1);
+    nearest = std::hypot(c.x - nx, c.y - ny);
+    const double fx = std::max(std::abs(c.x - v.x), std::abs(c.x - (v.x + 1.0)));
+    const double fy = std::max(std::abs(c.y - v.y), std::abs(c.y - (v.y + 1.0)));
+    farthest = std::hypot(fx, fy);
+}
+
+// The circle touches the closed square iff nearest <= r <= farthest; the disc iff nearest <= r.
+Expect expect2D(const TbvRegion<2>& r, const IVec2& v, TbvDiscretization mode) {
+    double nearest, farthest;
+    squareDistances(r.centre, v, nearest, farthest);
+    const double tol = kBand + 1e-13 * (std::abs(r.centre.x) + std::abs(r.centre.y) + r.radius);
+    if (nearest > r.radius + tol) return Expect::MustNot;
+    if (mode == TbvDiscretization::Boundary && farthest < r.radius - tol) return Expect::MustNot;
+    const bool sure = nearest <= r.radius && (mode == TbvDiscretization::Filled || farthest >= r.radius);
+    return sure ? Expect::Must : Expect::May;
+}
+
+// Per axis, the voxel indices whose closed interval lies within Chebyshev distance r of c: [lo, hi],
+// the tight range (distance <= r) and the loose one (<= r + band), clipped to [0, res).
+void axisRange(double c, double r, std::int32_t res, double tol, std::int32_t& lo, std::int32_t& hi) {
+    lo = res;
+    hi = -1;
+    for (std::int32_t i = 0; i < res; ++i) {
+        const double gap = std::max({double(i) - c, c - double(i + 1), 0.0});
+        if (gap <= r + tol) {
+            lo = std::min(lo, i);
+            hi = std::max(hi, i);
+        }
+    }
+}
+
+TbvRegion<2> randomDisc(std::mt19937_64& rng, const IVec2& res) {
+    TbvRegion<2> r;
+    // Centres up to 20% beyond the grid: clipped regions. A third snapped to voxel corners or centres
+    // with integer or half-integer radii: circles through voxel corners and along voxel edges.
+    r.centre = {sr::uniform(rng, -0.2 * res.x, 1.2 * res.x), sr::uniform(rng, -0.2 * res.y, 1.2 * res.y)};
+    r.radius = sr::logUniform(rng, 0.01, 0.6 * std::max(res.x, res.y));
+    if (sr::chance(rng, 0.35)) {
+        r.centre = glm::round(r.centre) + (sr::chance(rng, 0.5) ? 0.5 : 0.0);
+        r.radius = 0.5 * std::round(2 * r.radius);
+    }
+    return r;
+}
+
+TbvRegion<3> randomCube(std::mt19937_64& rng, const IVec3& res) {
+    TbvRegion<3> r;
+    for (int a = 0; a < 3; ++a) r.centre[a] = sr::uniform(rng, -0.2 * res[a], 1.2 * res[a]);
+    r.radius = sr::logUniform(rng, 0.01, 0.6 * std::max({res.x, res.y, res.z}));
+    if (sr::chance(rng, 0.35)) {
+        r.centre = glm::round(r.centre) + (sr::chance(rng, 0.5) ? 0.5 : 0.0);
+        r.radius = 0.5 * std::round(2 * r.radius);
+    }
+    return r;
+}
+
+std::size_t countOf(const std::vector<ObjectSlot>& v, ObjectSlot s) { return std::size_t(std::count(v.begin(), v.end(), s)); }
+
+// Checks every in-grid voxel of a 2D T holding `regions` (slot i+offset of each) against expect2D.
+// Returns false on the first bad voxel (after a CHECK that prints it).
+bool check2D(const TbvMatrix<2>& t, const IVec2& res, const std::vector<TbvRegion<2>>& regions,
+             const std::vector<ObjectSlot>& slots, const std::vector<bool>& live, TbvDiscretization mode) {
+    std::vector<ObjectSlot> got;
+    for (std::int32_t y = 0; y < res.y; ++y)
+        for (std::int32_t x = 0; x < res.x; ++x) {
+            got.clear();
+            t.collectAt({x, y}, got);
+            bool anyMust = false;
+            for (std::size_t i = 0; i < regions.size(); ++i) {
+                const std::size_t n = countOf(got, slots[i]);
+                const Expect e = live[i] ? expect2D(regions[i], {x, y}, mode) : Expect::MustNot;
+                anyMust = anyMust || (e == Expect::Must);
+                const bool ok = n <= 1 && (e != Expect::Must || n == 1) && (e != Expect::MustNot || n == 0);
+                if (!ok) {
+                    INFO("voxel (" << x << ", " << y << ") slot " << slots[i] << " held " << n << " times; expected "
+                                   << (e == Expect::Must ? "must" : e == Expect::May ? "may" : "must not") << "; "
+                                   << describe(regions[i]) << (live[i] ? "" : " (erased)"));
+                    CHECK(ok);
+                    return false;
+                }
+            }
+            // Nothing but the live slots: no stray or stale ids.
+            for (ObjectSlot s : got) {
+                const bool known = std::find(slots.begin(), slots.end(), s) != slots.end();
+                if (!known) {
+                    INFO("voxel (" << x << ", " << y << ") holds unknown slot " << s);
+                    CHECK(known);
+                    return false;
+                }
+            }
+            if (t.holdsAt({x, y}) != !got.empty() || (anyMust && got.empty())) {
+                INFO("voxel (" << x << ", " << y << ") holdsAt disagrees with collectAt");
+                CHECK(false);
+                return false;
+            }
+        }
+    return true;
+}
+
+} // namespace
+
+TEST_CASE("tbv: T is not allocated, and holds nothing, until the first insert", "[tbv]") {
+    TbvMatrix<2> t2({16, 12});
+    TbvMatrix<3> t3({8, 6, 10});
+    CHECK_FALSE(t2.allocated());
+    CHECK_FALSE(t3.allocated());
+    std::vector<ObjectSlot> got;
+    t2.collectAt({3, 4}, got);
+    t3.collectAt({3, 4, 5}, got);
+    CHECK(got.empty());
+    CHECK_FALSE(t2.holdsAt({0, 0}));
+    CHECK_FALSE(t3.holdsAt({7, 5, 9}));
+    CHECK(t2.incidences() == 0);
+    CHECK(t3.liveRegions() == 0);
+
+    // A region wholly outside the grid still allocates (it is the first insert) but writes nothing.
+    const TbvRegion<2> away{{-50.0, 6.0}, 3.0};
+    CHECK(t2.insert(4, away, TbvDiscretization::Boundary) == 0);
+    CHECK(t2.allocated());
+    CHECK(t2.liveRegions() == 1);
+    CHECK(t2.erase(4, away, TbvDiscretization::Boundary) == 0);
+    CHECK(t2.liveRegions() == 0);
+
+    const TbvRegion<3> inside{{4.0, 3.0, 5.0}, 1.5};
+    CHECK(t3.insert(9, inside, TbvDiscretization::Boundary) > 0);
+    CHECK(t3.allocated());
+    CHECK(t3.holdsAt({2, 1, 3}));       // a corner of the voxel box [2, 5] x [1, 4] x [3, 6]
+    CHECK_FALSE(t3.holdsAt({3, 2, 4})); // strictly inside the box: not on the shell
+    t3.erase(9, inside, TbvDiscretization::Boundary);
+    CHECK(t3.incidences() == 0);
+    CHECK_FALSE(t3.holdsAt({2, 1, 3}));
+}
+
+TEST_CASE("tbv: 2D ring and filled disc match brute force on thousands of random regions", "[tbv]") {
+    for (const TbvDiscretization mode : {TbvDiscretization::Boundary, TbvDiscretization::Filled}) {
+        const std::uint64_t seed = mode == TbvDiscretization::Boundary ? 101 : 202;
+        std::mt19937_64 rng(seed);
+        std::size_t regionsChecked = 0, mayVoxels = 0;
+        for (int iter = 0; iter < 3000; ++iter) {
+            const IVec2 res{sr::uniformInt(rng, 1, 40), sr::uniformInt(rng, 1, 40)};
+            const TbvRegion<2> r = randomDisc(rng, res);
+            INFO("seed " << seed << " iteration " << iter << " grid " << res.x << "x" << res.y << " " << describe(r)
+                         << " mode " << (mode == TbvDiscretization::Boundary ? "boundary" : "filled"));
+            TbvMatrix<2> t(res);
+            const ObjectSlot slot = ObjectSlot(iter % 50);
+            const std::size_t written = t.insert(slot, r, mode);
+            CHECK(t.incidences() == written);
+            std::size_t held = 0;
+            bool ok = true;
+            for (std::int32_t y = 0; y < res.y && ok; ++y)
+                for (std::int32_t x = 0; x < res.x && ok; ++x) {
+                    std::vector<ObjectSlot> got;
+                    t.collectAt({x, y}, got);
+                    const Expect e = expect2D(r, {x, y}, mode);
+                    mayVoxels += e == Expect::May;
+                    const bool in = got.size() == 1 && got[0] == slot;
+                    held += in;
+                    ok = (got.empty() || in) && (e != Expect::Must || in) && (e != Expect::MustNot || !in);
+                    // tbvTouches is the same predicate as the filled discretization (up to the band).
+                    double nearest, farthest;
+                    squareDistances(r.centre, {x, y}, nearest, farthest);
+                    ok = ok && std::abs(tbvGap(r.centre, IVec2{x, y}) - nearest) <= 1e-12 * (1 + nearest);
+                    if (e != Expect::May && mode == TbvDiscretization::Filled) ok = ok && tbvTouches(r, IVec2{x, y}) == in;
+                    if (!ok) {
+                        INFO("voxel (" << x << ", " << y << ") held " << got.size() << " slots, expected "
+                                       << (e == Expect::Must ? "must" : e == Expect::May ? "may" : "must not")
+                                       << "; nearest " << nearest << " farthest " << farthest);
+                        CHECK(ok);
+                    }
+                }
+            REQUIRE(ok);
+            CHECK(held == written); // one incidence per voxel: no voxel written twice
+            CHECK(t.erase(slot, r, mode) == written);
+            CHECK(t.incidences() == 0);
+            ++regionsChecked;
+        }
+        CHECK(regionsChecked == 3000);
+        CHECK(mayVoxels < 3000); // the band is a rounding allowance, not a loophole
+    }
+}
+
+TEST_CASE("tbv: 2D overlapping regions keep their own slots once each, and erasing all leaves T empty", "[tbv]") {
+    const std::uint64_t seed = 303;
+    std::mt19937_64 rng(seed);
+    for (int iter = 0; iter < 300; ++iter) {
+        const TbvDiscretization mode = iter % 2 ? TbvDiscretization::Filled : TbvDiscretization::Boundary;
+        const IVec2 res{sr::uniformInt(rng, 4, 32), sr::uniformInt(rng, 4, 32)};
+        INFO("seed " << seed << " iteration " << iter << " grid " << res.x << "x" << res.y);
+        TbvMatrix<2> t(res);
+        const int k = sr::uniformInt(rng, 2, 8);
+        std::vector<TbvRegion<2>> regions;
+        std::vector<ObjectSlot> slots;
+        std::vector<bool> live(static_cast<std::size_t>(k), true);
+        std::size_t written = 0;
+        for (int i = 0; i < k; ++i) {
+            // Many regions near the same place, some identical: the lists must keep one entry per slot.
+            regions.push_back(i > 0 && sr::chance(rng, 0.2) ? regions.back() : randomDisc(rng, res));
+            slots.push_back(ObjectSlot(i * 37 + 5));
+            written += t.insert(slots.back(), regions.back(), mode);
+        }
+        CHECK(t.liveRegions() == std::size_t(k));
+        CHECK(t.incidences() == written);
+        REQUIRE(check2D(t, res, regions, slots, live, mode));
+        // Erase in random order, checking after each: the others are untouched.
+        std::vector<int> order(static_cast<std::size_t>(k));
+        for (int i = 0; i < k; ++i) order[std::size_t(i)] = i;
+        std::shuffle(order.begin(), order.end(), rng);
+        for (int i : order) {
+            written -= t.erase(slots[std::size_t(i)], regions[std::size_t(i)], mode);
+            live[std::size_t(i)] = false;
+            CHECK(t.incidences() == written);
+            REQUIRE(check2D(t, res, regions, slots, live, mode));
+        }
+        CHECK(t.incidences() == 0);
+        CHECK(t.liveRegions() == 0);
+    }
+}
+
+TEST_CASE("tbv: 3D shell (2 of 3 projections) and filled box match brute force, several regions at once", "[tbv]") {
+    const std::uint64_t seed = 404;
+    std::mt19937_64 rng(seed);
+    std::size_t shellVoxels = 0;
+    for (int iter = 0; iter < 1500; ++iter) {
+        const TbvDiscretization mode = iter % 3 == 2 ? TbvDiscretization::Filled : TbvDiscretization::Boundary;
+        const IVec3 res{sr::uniformInt(rng, 1, 20), sr::uniformInt(rng, 1, 20), sr::uniformInt(rng, 1, 20)};
+        const int k = sr::uniformInt(rng, 1, 4);
+        INFO("seed " << seed << " iteration " << iter << " grid " << res.x << "x" << res.y << "x" << res.z << " regions " << k
+                     << " mode " << (mode == TbvDiscretization::Boundary ? "boundary" : "filled"));
+        TbvMatrix<3> t(res);
+        std::vector<TbvRegion<3>> regions;
+        const std::size_t nk = static_cast<std::size_t>(k);
+        std::vector<IVec3> lo(nk), hi(nk);
+        std::vector<bool> hit(nk);
+        std::size_t written = 0;
+        for (int i = 0; i < k; ++i) {
+            const TbvRegion<3> r = randomCube(rng, res);
+            regions.push_back(r);
+            CAPTURE(i, describe(r));
+            written += t.insert(ObjectSlot(i * 11 + 2), r, mode);
+            // The box the header computes must lie between the tight brute-force box (voxels within
+            // Chebyshev distance r) and the loose one (within r + band).
+            hit[std::size_t(i)] = tbvVoxelBox3D(r, res, lo[std::size_t(i)], hi[std::size_t(i)]);
+            bool tightEmpty = false, looseEmpty = false;
+            for (int a = 0; a < 3; ++a) {
+                std::int32_t tlo, thi, llo, lhi;
+                axisRange(r.centre[a], r.radius, res[a], 0.0, tlo, thi);
+                axisRange(r.centre[a], r.radius, res[a], kBand, llo, lhi);
+                tightEmpty = tightEmpty || tlo > thi;
+                looseEmpty = looseEmpty || llo > lhi;
+                if (hit[std::size_t(i)] && tlo <= thi) {
+                    CHECK(llo <= lo[std::size_t(i)][a]);
+                    CHECK(lo[std::size_t(i)][a] <= tlo);
+                    CHECK(thi <= hi[std::size_t(i)][a]);
+                    CHECK(hi[std::size_t(i)][a] <= lhi);
+                }
+            }
+            if (!tightEmpty) CHECK(hit[std::size_t(i)]);
+            if (looseEmpty) CHECK_FALSE(hit[std::size_t(i)]);
+        }
+        CHECK(t.incidences() == written);
+        bool ok = true;
+        std::vector<ObjectSlot> got;
+        for (std::int32_t z = 0; z < res.z && ok; ++z)
+            for (std::int32_t y = 0; y < res.y && ok; ++y)
+                for (std::int32_t x = 0; x < res.x && ok; ++x) {
+                    const IVec3 v{x, y, z};
+                    got.clear();
+                    t.collectAt(v, got);
+                    std::size_t expectedTotal = 0;
+                    for (int i = 0; i < k; ++i) {
+                        const IVec3 l = lo[std::size_t(i)], h = hi[std::size_t(i)];
+                        bool inBox = hit[std::size_t(i)], onBound = false;
+                        for (int a = 0; a < 3; ++a) {
+                            inBox = inBox && v[a] >= l[a] && v[a] <= h[a];
+                            onBound = onBound || v[a] == l[a] || v[a] == h[a];
+                        }
+                        const bool expected = inBox && (mode == TbvDiscretization::Filled || onBound);
+                        const std::size_t n = countOf(got, ObjectSlot(i * 11 + 2));
+                        expectedTotal += expected;
+                        shellVoxels += expected;
+                        // tbvTouches agrees: true in the box, and outside it the region does not truly touch.
+                        if (inBox && !tbvTouches(regions[std::size_t(i)], v)) ok = false;
+                        if (!inBox && tbvGap(regions[std::size_t(i)].centre, v) <= regions[std::size_t(i)].radius) ok = false;
+                        if (n != std::size_t(expected)) {
+                            INFO("voxel (" << x << ", " << y << ", " << z << ") region " << i << " " << describe(regions[std::size_t(i)])
+                                           << " box [" << l.x << "," << h.x << "]x[" << l.y << "," << h.y << "]x[" << l.z << "," << h.z
+                                           << "] held " << n << " times, expected " << expected);
+                            CHECK(n == std::size_t(expected));
+                            ok = false;
+                        }
+                    }
+                    if (got.size() != expectedTotal) {
+                        INFO("voxel (" << x << ", " << y << ", " << z << ") collected " << got.size() << " slots, expected " << expectedTotal);
+                        CHECK(got.size() == expectedTotal);
+                        ok = false;
+                    }
+                    // holdsAt may say true where two different regions' projections meet (conservative);
+                    // it must never say false where a slot is held.
+                    if (!got.empty() && !t.holdsAt(v)) ok = false;
+                }
+        REQUIRE(ok);
+        for (int i = 0; i < k; ++i) written -= t.erase(ObjectSlot(i * 11 + 2), regions[std::size_t(i)], mode);
+        CHECK(written == 0);
+        CHECK(t.incidences() == 0);
+        CHECK(t.liveRegions() == 0);
+        CHECK_FALSE(t.holdsAt({0, 0, 0}));
+    }
+    CHECK(shellVoxels > 10000); // the regions did reach the grids
+}
+
+TEST_CASE("tbv: 3D boundary writes outlines (12 per box side), not faces", "[tbv]") {
+    // The point of the projections (§5.2): a box of side n costs O(n) writes, not O(n^2).
+    TbvMatrix<3> t({64, 64, 64});
+    const TbvRegion<3> r{{32.5, 32.5, 32.5}, 9.9}; // voxel box [22, 42]^3: n = 21
+    const std::size_t n = 21;
+    CHECK(t.insert(1, r, TbvDiscretization::Boundary) == 3 * (2 * n + 2 * (n - 2)));
+    TbvMatrix<3> f({64, 64, 64});
+    CHECK(f.insert(1, r, TbvDiscretization::Filled) == 3 * n * n);
+}
+
+TEST_CASE("tbv: the 2D ring and 3D shell stop every segment from an outside camera to a point inside", "[tbv]") {
+    // The property that makes the boundary enough: the traversal reaches, in a layer no farther than p,
+    // a voxel the segment camera->p crosses before p, and that voxel holds the slot. Brute force: sample
+    // the segment densely up to p, and also check the voxel at the analytic first crossing of the circle.
+    const std::uint64_t seed = 505;
+    std::mt19937_64 rng(seed);
+    int segments2D = 0, segments3D = 0;
+    for (int iter = 0; iter < 2000; ++iter) {
+        const IVec2 res{sr::uniformInt(rng, 8, 48), sr::uniformInt(rng, 8, 48)};
+        TbvRegion<2> r = randomDisc(rng, res);
+        r.radius = std::min(r.radius, 0.4 * std::min(res.x, res.y));
+        INFO("seed " << seed << " iteration " << iter << " grid " << res.x << "x" << res.y << " " << describe(r));
+        TbvMatrix<2> t(res);
+        t.insert(7, r, TbvDiscretization::Boundary);
+        for (int trial = 0; trial < 10; ++trial) {
+            const Vec2 cam{sr::uniform(rng, 0, res.x), sr::uniform(rng, 0, res.y)};
+            const IVec2 cv = IVec2(glm::floor(cam));
+            double nearest, farthest;
+            squareDistances(r.centre, cv, nearest, farthest);
+            if (nearest <= r.radius + kBand) continue; // the condition: the camera's voxel misses the disc
+            const double a = sr::uniform(rng, 0, 6.283185307179586), d = r.radius * std::sqrt(sr::uniform01(rng));
+            const Vec2 p = r.centre + d * Vec2{std::cos(a), std::sin(a)};
+            if (!(p.x >= 0 && p.x < res.x && p.y >= 0 && p.y < res.y)) continue;
+            CAPTURE(cam.x, cam.y, p.x, p.y);
+            bool held = false;
+            const int steps = 4000;
+            for (int k = 0; k <= steps && !held; ++k) {
+                const Vec2 s = cam + (p - cam) * (double(k) / steps);
+                held = t.holdsAt(glm::clamp(IVec2(glm::floor(s)), IVec2(0), res - 1));
+            }
+            CHECK(held);
+            // First crossing of the circle: |cam + u (p - cam) - c| = r, smallest u in (0, 1].
+            const Vec2 dd = p - cam, f = cam - r.centre;
+            const double A = glm::dot(dd, dd), B = 2 * glm::dot(f, dd), C = glm::dot(f, f) - r.radius * r.radius;
+            const double u = (-B - std::sqrt(std::max(0.0, B * B - 4 * A * C))) / (2 * A);
+            const Vec2 q = cam + u * dd;
+            CHECK(t.holdsAt(glm::clamp(IVec2(glm::floor(q)), IVec2(0), res - 1)));
+            ++segments2D;
+        }
+        // The frame-to-frame half: a voxel next to (8-connected) one that misses the disc either misses
+        // the disc too or holds the ring, so a camera moving by one voxel cannot step inside unseen.
+        for (std::int32_t y = 0; y < res.y; ++y)
+            for (std::int32_t x = 0; x < res.x; ++x) {
+                double nearest, farthest;
+                squareDistances(r.centre, {x, y}, nearest, farthest);
+                if (nearest > r.radius || t.holdsAt({x, y})) continue;
+                // {x, y} touches the disc but not the circle: every neighbour touches the disc.
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        double n2, f2;
+                        squareDistances(r.centre, {x + dx, y + dy}, n2, f2);
+                        if (n2 > r.radius + kBand) {
+                            INFO("voxel (" << x << ", " << y << ") is inside the ring but its neighbour (" << x + dx << ", "
+                                           << y + dy << ") misses the disc");
+                            CHECK(false);
+                        }
+                    }
+            }
+    }
+    for (int iter = 0; iter < 600; ++iter) {
+        const IVec3 res{sr::uniformInt(rng, 6, 24), sr::uniformInt(rng, 6, 24), sr::uniformInt(rng, 6, 24)};
+        TbvRegion<3> r = randomCube(rng, res);
+        r.radius = std::min(r.radius, 0.4 * std::min({res.x, res.y, res.z}));
+        INFO("seed " << seed << " 3D iteration " << iter << " grid " << res.x << "x" << res.y << "x" << res.z << " " << describe(r));
+        TbvMatrix<3> t(res);
+        t.insert(3, r, TbvDiscretization::Boundary);
+        IVec3 lo, hi;
+        if (!tbvVoxelBox3D(r, res, lo, hi)) continue;
+        for (int trial = 0; trial < 10; ++trial) {
+            Vec3 cam, p;
+            for (int a = 0; a < 3; ++a) {
+                cam[a] = sr::uniform(rng, 0, res[a]);
+                p[a] = std::clamp(r.centre[a] + sr::uniform(rng, -r.radius, r.radius), 0.0, std::nextafter(double(res[a]), 0.0));
+            }
+            const IVec3 cv = IVec3(glm::floor(cam));
+            bool outside = false;
+            for (int a = 0; a < 3; ++a) outside = outside || cv[a] < lo[a] || cv[a] > hi[a];
+            if (!outside) continue; // the condition: the camera's voxel index is outside the box
+            CAPTURE(cam.x, cam.y, cam.z, p.x, p.y, p.z);
+            std::vector<ObjectSlot> got;
+            bool held = false;
+            const int steps = 3000;
+            for (int k = 0; k <= steps && !held; ++k) {
+                const Vec3 s = cam + (p - cam) * (double(k) / steps);
+                got.clear();
+                t.collectAt(glm::clamp(IVec3(glm::floor(s)), IVec3(0), res - 1), got);
+                held = countOf(got, 3) == 1;
+            }
+            CHECK(held);
+            ++segments3D;
+        }
+    }
+    CHECK(segments2D > 5000);
+    CHECK(segments3D > 1500);
+}
