@@ -43,9 +43,11 @@ template <> struct CullerTraits<2> {
                                                           " voxels per axis in 2D, got " +
                                                           std::to_string(grid.resolution()[a]));
     }
+    /// reportEveryVoxel: the 2D traversal reports every visited voxel not in H anyway.
     template <class OnVoxel>
     static void traverse(Traversal& t, const GridGeometry2& grid, DenseStorage<2>& storage, const View& view,
-                         std::uint32_t stamp, const CullerOptions& options, CullStats& st, OnVoxel&& onVoxel) {
+                         std::uint32_t stamp, const CullerOptions& options, bool /*reportEveryVoxel*/, CullStats& st,
+                         OnVoxel&& onVoxel) {
         TraversalOptions2D topt;
         topt.occlusion = options.occlusion;
         topt.extension = options.occluderExtension;
@@ -68,10 +70,12 @@ template <> struct CullerTraits<3> {
     static void checkGrid(const GridGeometry3&) {}
     template <class OnVoxel>
     static void traverse(Traversal& t, const GridGeometry3& grid, DenseStorage<3>& storage, const View& view,
-                         std::uint32_t stamp, const CullerOptions& options, CullStats& st, OnVoxel&& onVoxel) {
+                         std::uint32_t stamp, const CullerOptions& options, bool reportEveryVoxel, CullStats& st,
+                         OnVoxel&& onVoxel) {
         TraversalOptions3D topt;
         topt.occlusion = options.occlusion;
         topt.exponentialCaps = options.occluderExtension;
+        topt.reportEveryVoxel = reportEveryVoxel;
         const TraversalStats3D ts = t.run(grid, storage, view, stamp, topt, onVoxel);
         st.layers = ts.layers;
         st.voxelsVisited = ts.voxelsVisited;
@@ -544,7 +548,8 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
 
     if (cameraIn) {
         st.tbvLookupsSkipped = hidden.empty();
-        Traits::traverse(traversal, grid, storage, view, frame, options, st, [&](VoxelKey key, const IVec<D>& v) {
+        Traits::traverse(traversal, grid, storage, view, frame, options, !hidden.empty(), st,
+                         [&](VoxelKey key, const IVec<D>& v) {
             if (tbvs.liveRegions() != 0) {
                 revealScratch.clear();
                 tbvs.collectAt(v, revealScratch);

@@ -10,38 +10,24 @@
 // this plane sweep with 3D Bresenham voxels of the line of sight, and the clipped rectangle is the
 // region such a sweep covers, found without walking.
 //
-// Occlusion. After shell k is processed, the opaque and occluded voxels of each of its faces form a
-// bitmap: the paper vectorizes it into cap polygons (with holes), extrudes them from the viewpoint and
-// rasterizes the cross-sections with §4.4's sampling correction. We keep the bitmap and store its
-// summed-area table instead. A voxel q of a later shell is occluded if, for some earlier shell k', every
-// segment from any point of the camera voxel to any point of q crosses shell k' only through blocked
-// voxels: the set of such crossing points (q's *footprint* on shell k') is bounded per face by an
-// axis-aligned rectangle (below), and a summed-area lookup tells in O(1) whether every voxel of that
-// rectangle is blocked. This is the cap test with the from-region correction built in: the footprint
-// is the cross-section of the beam between the camera voxel and q, so H holds only voxels hidden from
-// every point of the camera voxel; occluder fusion is automatic (any blocked voxels, from any objects,
-// side by side in a cap), and blocked includes occluded voxels, as occluder extension does.
+// Occlusion: the voxels of shell k are tested against caps built from the opaque and occluded voxels
+// of earlier shells; ShellCaps3D.hpp derives the test and where it can be skipped.
 //
-// Which earlier shells: k-1, k-2, k-4, k-8, ... Every segment from the camera voxel to shell k crosses
-// every shell in between, so each is a valid cap. Testing only k-1 (propagating occlusion layer by layer)
-// erodes the hidden region by about one voxel per shell, because a footprint on the adjacent shell is
-// about two voxels wide; the exponentially spaced caps bound that loss by a logarithmic number of
-// footprint margins, at log(k) lookups per voxel.
-//
-// Footprint of q on face (a, s) of shell k' (centre-relative coordinates, camera voxel [-1/2, 1/2]^3,
-// q's voxel Q = [o - 1/2, o + 1/2]^3, slab s*x_a in [k' - 1/2, k' + 1/2]): a segment c -> q' crosses the
-// plane s*x_a = X at parameter t = (X - s*c_a) / (s*q'_a - s*c_a), monotone in each endpoint coordinate,
-// so t over the slab lies in [tMin, tMax] from the endpoint extremes; there, every other coordinate
-// (1 - t) c_b + t q'_b lies between the extremes of -1/2 + t*o_b and 1/2 + t*o_b at tMin and tMax.
-// Treating t and the other coordinates independently only enlarges the rectangle (conservative).
+// Cost. A frame visits every voxel of the frustum that is not behind a terminating layer, so the visit
+// itself is the floor: per voxel one cell read and one stamp write, plus the callback's id list. Rows are
+// walked by key steps, in chunks whose cell reads are independent of each other (no branch between them,
+// so the loads overlap); the callback then runs only for the voxels that hold ids. The cap test runs only
+// where a cap's candidate rectangle says it can succeed.
 #pragma once
 
 #include "rgvc/grid/GridGeometry.hpp"
+#include "rgvc/grid/ShellCaps3D.hpp"
 #include "rgvc/grid/ViewFrustum.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -52,6 +38,9 @@ struct TraversalOptions3D {
     bool occlusion = true; ///< false: view-frustum culling only
     /// Test caps at k-1, k-2, k-4, ... (true) or only at k-1 (false: layer-by-layer propagation).
     bool exponentialCaps = true;
+    /// Call onVoxel for every visited voxel not in H, not only for those holding ids (the culler needs
+    /// this while TBVs exist: a TBV is revealed by any visited, non-occluded voxel of T, ids or not).
+    bool reportEveryVoxel = false;
 };
 
 struct TraversalStats3D {
@@ -64,29 +53,13 @@ struct TraversalStats3D {
     bool earlyTermination = false;
 };
 
-namespace traversal3d_detail {
-
-/// Axes of face a: the two others, in increasing order.
-inline void otherAxes(int a, int& b1, int& b2) {
-    b1 = a == 0 ? 1 : 0;
-    b2 = a == 2 ? 1 : 2;
-}
-
-/// Summed-area table of blocked voxels over a rectangle of one shell face (offsets from c).
-struct FaceSat {
-    std::int32_t u0 = 0, u1 = -1, v0 = 0, v1 = -1; // rectangle of offsets on axes b1, b2
-    std::size_t offset = 0;                         // into the frame's pool; (w+1)*(h+1) entries
-    // Bounding rectangle of the blocked voxels: a footprint not inside it cannot be all blocked, which
-    // rejects most lookups in O(1) without touching the table.
-    std::int32_t bu0 = 0, bu1 = -1, bv0 = 0, bv1 = -1;
-    bool empty() const { return u0 > u1 || v0 > v1; }
-};
-
-} // namespace traversal3d_detail
-
 template <VoxelStorage Storage> class FrustumTraversal3D {
 public:
-    /// Runs one frame; see FrustumTraversal2D::run for the stamp and callback contract.
+    /// Runs one frame; see FrustumTraversal2D::run for the stamp contract.
+    /// @param onVoxel  void(VoxelKey, IVec3): called once for every visited in-grid voxel not in H that
+    ///                 holds ids (storage.hasIds), or for every such voxel with options.reportEveryVoxel.
+    ///                 When it is called for a voxel, the voxel's visited mark is set and its O was read;
+    ///                 its H mark (if the voxel turns out hidden) may come later in the same row.
     template <class OnVoxel>
     TraversalStats3D run(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, std::uint32_t stamp,
                          const TraversalOptions3D& options, OnVoxel&& onVoxel) {
@@ -96,8 +69,10 @@ public:
         const IVec3 c = glm::clamp(GridGeometry3::voxelOfLocal(frustum.apex()), IVec3(0), res - 1);
         std::int32_t kMax = 0;
         for (int a = 0; a < 3; ++a) kMax = std::max(kMax, std::max(c[a], res[a] - 1 - c[a]));
-        m_shells.assign(std::size_t(kMax) + 1, {});
-        m_pool.clear();
+        m_caps.beginFrame(kMax);
+        // Key steps along each axis: a row of a face is walked by adding one of them to the key.
+        const std::array<std::int64_t, 3> stride{1, res.x, std::int64_t(res.x) * res.y};
+        const bool hasFar = !std::isinf(frustum.far());
 
         // Truncated pyramid covering the frustum up to beyond the grid (centre-relative).
         const Vec3 apex = frustum.apex() - (Vec3(c) + 0.5);
@@ -116,15 +91,14 @@ public:
             const VoxelKey key = grid.linearIndex(c);
             storage.setVisited(key, stamp);
             ++stats.voxelsVisited;
-            onVoxel(key, c);
+            if (options.reportEveryVoxel || storage.hasIds(key)) onVoxel(key, c);
             stats.layers = 1;
         }
 
         for (std::int32_t k = 1; k <= kMax; ++k) {
-            if (!std::isinf(frustum.far()) && double(k - 1) > frustum.far()) break;
-            std::uint64_t inGrid = 0, open = 0, shellBlocked = 0;
-            std::array<IVec2, 6> rectLo, rectHi; // visited rectangles per face (b1, b2 offsets)
-            if (options.occlusion) prepareCaps(k, options);
+            if (hasFar && double(k - 1) > frustum.far()) break;
+            std::uint64_t inGrid = 0, open = 0, occluded = 0, opaque = 0;
+            if (options.occlusion) m_caps.prepare(k, options.exponentialCaps);
             for (int face = 0; face < 6; ++face) {
                 const int a = face / 2;
                 const int sgn = face % 2 == 0 ? 1 : -1;
@@ -137,70 +111,109 @@ public:
                 // A frustum within ~0.06 degrees of a half-space has edges nearly orthogonal to its axis: its
                 // truncated pyramid would be far too long to build accurately, so such a view scans whole
                 // faces (rowSpan still clips every row to the side planes). Found by fuzz_culler3d.
-                if (!nearlyFlat && !crossSection(pyramid, a, sgn, k, b1, b2, lo, hi)) {
-                    rectLo[face] = IVec2(1);
-                    rectHi[face] = IVec2(0);
-                    continue;
-                }
+                if (!nearlyFlat && !crossSection(pyramid, a, sgn, k, b1, b2, lo, hi)) continue;
                 // Clip to the grid.
                 lo.x = std::max(lo.x, -c[b1]);
                 hi.x = std::min(hi.x, res[b1] - 1 - c[b1]);
                 lo.y = std::max(lo.y, -c[b2]);
                 hi.y = std::min(hi.y, res[b2] - 1 - c[b2]);
                 const std::int32_t ca = c[a] + sgn * k;
-                const bool empty = ca < 0 || ca >= res[a] || lo.x > hi.x || lo.y > hi.y;
-                rectLo[face] = empty ? IVec2(1) : lo;
-                rectHi[face] = empty ? IVec2(0) : hi;
-                if (empty) continue;
-                IVec3 o{0};
-                o[a] = sgn * k;
-                const bool hasFar = !std::isinf(frustum.far());
+                if (ca < 0 || ca >= res[a] || lo.x > hi.x || lo.y > hi.y) continue;
+                // The face's voxels are c + oRow + u e1 for rows oRow = k sgn ea + v e2: vector arithmetic and a
+                // key step per voxel (writing one component of a vector in memory and reading the whole
+                // vector back stalled every voxel on store forwarding).
+                IVec3 ea(0), e1(0), e2(0);
+                ea[a] = 1;
+                e1[b1] = 1;
+                e2[b2] = 1;
+                const IVec3 oFace = ea * (sgn * k);
+                const std::int64_t step = stride[b1];
+                const bool testCaps = options.occlusion && m_caps.prepareFace(face, lo, hi);
                 for (std::int32_t v = lo.y; v <= hi.y; ++v) {
-                    o[b2] = v;
+                    const IVec3 oRow = oFace + e2 * v;
                     std::int32_t u0 = lo.x, u1 = hi.x;
-                    if (!rowSpan(frustum, c, o, b1, u0, u1)) continue;
-                    for (std::int32_t u = u0; u <= u1; ++u) {
-                        o[b1] = u;
-                        const IVec3 voxel = c + o;
-                        if (hasFar && !frustum.withinFar(Vec3(voxel), Vec3(voxel) + 1.0)) continue;
-                        ++inGrid;
-                        const VoxelKey key = grid.linearIndex(voxel);
-                        storage.setVisited(key, stamp);
-                        ++stats.voxelsVisited;
-                        if (options.occlusion && hiddenByCaps(o, face)) {
-                            storage.setOccluded(key, stamp);
-                            ++stats.voxelsOccluded;
-                            ++shellBlocked;
-                            continue;
+                    if (!rowSpan(frustum, c, oRow, b1, u0, u1)) continue;
+                    const std::int64_t rowKey = std::int64_t(grid.linearIndex(c + oRow)); // u = 0 is in the grid
+                    auto keyOf = [&](std::int32_t u) { return VoxelKey(rowKey + u * step); };
+                    // Opaque voxels just outside the row's span are blockers too: a footprint of a later voxel
+                    // near the frustum's side reaches up to a couple of voxels past it (as the caps used to be
+                    // built over the visited rectangle grown by two). They are read, not visited.
+                    if (options.occlusion)
+                        for (std::int32_t u : {u0 - 2, u0 - 1, u1 + 1, u1 + 2})
+                            if (u >= std::max(-k, -c[b1]) && u <= std::min(k, res[b1] - 1 - c[b1]) &&
+                                storage.opaque(keyOf(u)))
+                                m_caps.addBlocked(oRow + e1 * u, k);
+                    // Some cap may hide voxel u where masks[u] != 0 (null: nowhere on this row).
+                    const ShellCaps3D::CapMask* masks = testCaps ? m_caps.maskRow(v) : nullptr;
+                    if (masks != nullptr) masks -= m_caps.maskU0();
+                    if (hasFar) { // rare: the far ball's test for every voxel
+                        for (std::int32_t u = u0; u <= u1; ++u) {
+                            const IVec3 o = oRow + e1 * u;
+                            if (!frustum.withinFar(Vec3(c + o), Vec3(c + o) + 1.0)) continue;
+                            visitChunk(storage, keyOf(u), step, 1, o, e1, c, k, face, masks ? masks + u : nullptr,
+                                       options, stamp, onVoxel, inGrid, open, occluded, opaque);
                         }
-                        onVoxel(key, voxel);
-                        if (storage.opaque(key)) {
-                            ++stats.opaqueVisited;
-                            ++shellBlocked;
-                        } else {
-                            ++open;
-                        }
+                        continue;
                     }
+                    for (std::int32_t u = u0; u <= u1; u += 32)
+                        visitChunk(storage, keyOf(u), step, std::min<std::int32_t>(32, u1 - u + 1), oRow + e1 * u, e1, c, k,
+                                   face, masks ? masks + u : nullptr, options, stamp, onVoxel, inGrid, open, occluded,
+                                   opaque);
                 }
             }
+            stats.voxelsVisited += inGrid;
+            stats.voxelsOccluded += occluded;
+            stats.opaqueVisited += opaque;
             stats.layers = std::uint32_t(k + 1);
             if (inGrid == 0) break;
             if (options.occlusion && open == 0 && !cameraOnBoundary) {
                 stats.earlyTermination = true;
                 break;
             }
-            // A shell whose visited voxels hold nothing opaque or occluded gets no caps: skipping a cap only
-            // leaves voxels out of H (its margin outside the frustum might have held a few blockers).
-            if (options.occlusion && (shellBlocked > 0)) buildCaps(grid, storage, c, k, stamp, rectLo, rectHi, stats);
+            // A shell with no blocked voxel recorded gets no caps (and the records never outlive their shell).
+            if (options.occlusion && m_caps.anyRecorded()) m_caps.build(k, stats.capFaces, stats.capVoxels);
         }
         return stats;
     }
 
 private:
-    struct Shell {
-        std::array<traversal3d_detail::FaceSat, 6> faces;
-        bool anyBlocked = false;
-    };
+    /// Visits the n <= 32 voxels c + o0 + i e1 (keys key + i step) of one row of face `face` of shell k.
+    /// First the cap tests (where masks[i] != 0), then every cell read with no branch in between, so that
+    /// the reads overlap, then the callbacks for the voxels with ids and the records of blocked voxels.
+    template <class OnVoxel>
+    void visitChunk(Storage& storage, VoxelKey key, std::int64_t step, int n, const IVec3& o0, const IVec3& e1,
+                    const IVec3& c, std::int32_t k, int face, const ShellCaps3D::CapMask* masks,
+                    const TraversalOptions3D& options, std::uint32_t stamp, OnVoxel& onVoxel, std::uint64_t& inGrid,
+                    std::uint64_t& open, std::uint64_t& occluded, std::uint64_t& opaque) {
+        std::uint32_t hidden = 0, withIds = 0, opaqueBits = 0;
+        if (masks != nullptr)
+            for (int i = 0; i < n; ++i)
+                if (masks[i] != 0 && m_caps.hiddenByCaps(o0 + e1 * i, face, masks[i])) hidden |= 1u << i;
+        for (int i = 0; i < n; ++i) {
+            const VoxelKey ki = key + VoxelKey(i * step);
+            storage.setVisited(ki, stamp);
+            withIds |= std::uint32_t(storage.hasIds(ki)) << i;
+            opaqueBits |= std::uint32_t(storage.opaque(ki)) << i;
+        }
+        if (options.reportEveryVoxel) withIds = n == 32 ? ~0u : (1u << n) - 1;
+        withIds &= ~hidden;
+        opaqueBits &= ~hidden;
+        for (; withIds != 0; withIds &= withIds - 1) {
+            const int i = std::countr_zero(withIds);
+            onVoxel(key + VoxelKey(i * step), c + o0 + e1 * i);
+        }
+        int nHidden = 0, nOpaque = 0;
+        for (std::uint32_t bits = hidden; bits != 0; bits &= bits - 1, ++nHidden)
+            storage.setOccluded(key + VoxelKey(std::countr_zero(bits) * step), stamp);
+        for (std::uint32_t bits = opaqueBits; bits != 0; bits &= bits - 1) ++nOpaque;
+        if (options.occlusion)
+            for (std::uint32_t bits = hidden | opaqueBits; bits != 0; bits &= bits - 1)
+                m_caps.addBlocked(o0 + e1 * std::countr_zero(bits), k);
+        inGrid += std::uint64_t(n);
+        occluded += std::uint64_t(nHidden);
+        opaque += std::uint64_t(nOpaque);
+        open += std::uint64_t(n - nHidden - nOpaque);
+    }
 
     /// Bounding rectangle (offsets on b1, b2) of the frustum's cross-section with face (a, sgn) of shell k,
     /// intersected with [lo, hi]. False when the frustum misses the face's slab.
@@ -266,172 +279,7 @@ private:
         return true;
     }
 
-    /// Occluded by the caps of some earlier shell. The shells tested for shell k are prepared once per
-    /// shell (prepareCaps), with the crossing parameters of q's own face precomputed.
-    ///
-    /// Shortcut: when q's footprint on the nearest cap holds no blocked voxel at all, the beam passes
-    /// through open space just in front of q, and the farther caps are not tried (skipping a cap can only
-    /// leave a voxel out of H, never put one in). Visible voxels, the bulk of a traversal, then cost one
-    /// footprint test instead of log(k).
-    bool hiddenByCaps(const IVec3& o, int ownFace) const {
-        for (std::size_t i = 0; i < m_caps.size(); ++i) {
-            const CapTest t = hiddenByShell(o, m_caps[i], ownFace);
-            if (t == CapTest::Hidden) return true;
-            if (t == CapTest::Open && i == 0 && m_caps[0].kk == m_caps[0].k - 1) return false;
-        }
-        return false;
-    }
-
-    enum class CapTest { Hidden, Partial, Open };
-
-    struct CapRef {
-        std::int32_t k, kk;
-        double tMin, tMax; // crossing parameters for a voxel on the same face as the cap face (oa = k)
-    };
-
-    /// Range of t at which segments from the camera voxel to a voxel at signed axis offset oa cross the
-    /// slab [kk - 1/2, kk + 1/2] (see the file comment). Monotone in each endpoint: the extremes are at
-    /// the corners of the two boxes' extents on that axis.
-    static void crossingRange(double oa, std::int32_t kk, double& tMin, double& tMax) {
-        const double x0 = kk - 0.5, x1 = kk + 0.5;
-        const double q0 = std::max(oa - 0.5, x0), q1 = oa + 0.5;
-        tMin = 1;
-        tMax = 0;
-        for (double cA : {-0.5, 0.5})
-            for (double qA : {q0, q1}) {
-                const double den = qA - cA;
-                if (!(den > 0)) {
-                    tMin = 0;
-                    tMax = 1;
-                    continue;
-                }
-                tMin = std::min(tMin, (x0 - cA) / den);
-                tMax = std::max(tMax, (x1 - cA) / den);
-            }
-        tMin = std::max(tMin, 0.0);
-        tMax = std::min(tMax, 1.0);
-    }
-
-    void prepareCaps(std::int32_t k, const TraversalOptions3D& options) {
-        m_caps.clear();
-        for (std::int32_t step = 1; k - step >= 1; step *= 2) {
-            const std::int32_t kk = k - step;
-            if (m_shells[std::size_t(kk)].anyBlocked) {
-                CapRef cap{k, kk, 0, 0};
-                crossingRange(double(k), kk, cap.tMin, cap.tMax);
-                m_caps.push_back(cap);
-            }
-            if (!options.exponentialCaps) break;
-        }
-    }
-
-    /// Every segment from the camera voxel to voxel offset o crosses shell kk only through blocked voxels.
-    CapTest hiddenByShell(const IVec3& o, const CapRef& cap, int ownFace) const {
-        using namespace traversal3d_detail;
-        const std::int32_t kk = cap.kk;
-        const Shell& shell = m_shells[std::size_t(kk)];
-        bool crossed = false;
-        bool anyBlocked = false;
-        for (int face = 0; face < 6; ++face) {
-            const int a = face / 2;
-            const double oa = (face % 2 == 0) ? o[a] : -o[a];
-            if (oa < kk - 1) continue; // the beam never reaches this face's slab
-            double tMin = cap.tMin, tMax = cap.tMax;
-            if (face != ownFace) crossingRange(oa, kk, tMin, tMax);
-            int b1, b2;
-            otherAxes(a, b1, b2);
-            // Touched voxel offsets i: [i - 1/2, i + 1/2] meets [lo, hi].
-            auto range = [&](int b, std::int32_t& first, std::int32_t& last) {
-                const double lo = std::min(tMin * o[b], tMax * o[b]) - 0.5 - 1e-9;
-                const double hi = std::max(tMin * o[b], tMax * o[b]) + 0.5 + 1e-9;
-                first = std::max<std::int32_t>(-kk, std::int32_t(std::ceil(lo - 0.5)));
-                last = std::min<std::int32_t>(kk, std::int32_t(std::floor(hi + 0.5)));
-            };
-            std::int32_t u0, u1, v0, v1;
-            range(b1, u0, u1);
-            range(b2, v0, v1);
-            if (u0 > u1 || v0 > v1) continue; // crosses the slab outside this face's square
-            crossed = true;
-            const FaceSat& sat = shell.faces[face];
-            if (u1 < sat.bu0 || u0 > sat.bu1 || v1 < sat.bv0 || v0 > sat.bv1) return CapTest::Open; // none blocked
-            if (u0 < sat.bu0 || u1 > sat.bu1 || v0 < sat.bv0 || v1 > sat.bv1) return CapTest::Partial;
-            if (u0 < sat.u0 || u1 > sat.u1 || v0 < sat.v0 || v1 > sat.v1) return CapTest::Partial;
-            const std::uint32_t blocked = blockedCount(sat, u0, u1, v0, v1);
-            if (blocked == 0) return anyBlocked ? CapTest::Partial : CapTest::Open;
-            if (blocked != std::uint32_t((u1 - u0 + 1) * (v1 - v0 + 1))) return CapTest::Partial;
-            anyBlocked = true;
-        }
-        return crossed ? CapTest::Hidden : CapTest::Partial;
-    }
-
-    std::uint32_t blockedCount(const traversal3d_detail::FaceSat& s, std::int32_t u0, std::int32_t u1, std::int32_t v0,
-                               std::int32_t v1) const {
-        const std::size_t w = std::size_t(s.u1 - s.u0 + 2);
-        auto at = [&](std::int32_t u, std::int32_t v) { // sum over [s.u0, u) x [s.v0, v)
-            return m_pool[s.offset + std::size_t(v - s.v0) * w + std::size_t(u - s.u0)];
-        };
-        return at(u1 + 1, v1 + 1) - at(u0, v1 + 1) - at(u1 + 1, v0) + at(u0, v0);
-    }
-
-    /// Summed-area tables of the blocked (opaque or occluded) voxels of shell k's faces, over each
-    /// face's visited rectangle grown by two voxels (footprints of the next shells reach a little
-    /// outside the frustum). Voxels outside the grid count as not blocked.
-    void buildCaps(const GridGeometry3& grid, const Storage& storage, const IVec3& c, std::int32_t k, std::uint32_t stamp,
-                   const std::array<IVec2, 6>& rectLo, const std::array<IVec2, 6>& rectHi, TraversalStats3D& stats) {
-        using namespace traversal3d_detail;
-        Shell& shell = m_shells[std::size_t(k)];
-        for (int face = 0; face < 6; ++face) {
-            if (rectLo[face].x > rectHi[face].x || rectLo[face].y > rectHi[face].y) continue;
-            const int a = face / 2;
-            const int sgn = face % 2 == 0 ? 1 : -1;
-            int b1, b2;
-            otherAxes(a, b1, b2);
-            FaceSat& s = shell.faces[face];
-            s.bu0 = s.bv0 = std::numeric_limits<std::int32_t>::max();
-            s.bu1 = s.bv1 = std::numeric_limits<std::int32_t>::min();
-            s.u0 = std::max(-k, rectLo[face].x - 2);
-            s.u1 = std::min(k, rectHi[face].x + 2);
-            s.v0 = std::max(-k, rectLo[face].y - 2);
-            s.v1 = std::min(k, rectHi[face].y + 2);
-            const std::size_t w = std::size_t(s.u1 - s.u0 + 2), h = std::size_t(s.v1 - s.v0 + 2);
-            s.offset = m_pool.size();
-            m_pool.resize(m_pool.size() + w * h, 0); // row 0 and column 0 stay zero
-            IVec3 o{0};
-            o[a] = sgn * k;
-            std::uint32_t* base = m_pool.data() + s.offset;
-            for (std::int32_t v = s.v0; v <= s.v1; ++v) {
-                o[b2] = v;
-                std::uint32_t rowSum = 0;
-                std::uint32_t* row = base + std::size_t(v - s.v0 + 1) * w;
-                const std::uint32_t* above = row - w;
-                for (std::int32_t u = s.u0; u <= s.u1; ++u) {
-                    o[b1] = u;
-                    const IVec3 voxel = c + o;
-                    bool blocked = false;
-                    if (grid.contains(voxel)) {
-                        const VoxelKey key = grid.linearIndex(voxel);
-                        blocked = storage.opaque(key) || storage.occluded(key, stamp);
-                    }
-                    if (blocked) {
-                        s.bu0 = std::min(s.bu0, u);
-                        s.bu1 = std::max(s.bu1, u);
-                        s.bv0 = std::min(s.bv0, v);
-                        s.bv1 = std::max(s.bv1, v);
-                        shell.anyBlocked = true;
-                    }
-                    rowSum += blocked;
-                    const std::size_t col = std::size_t(u - s.u0 + 1);
-                    row[col] = above[col] + rowSum;
-                }
-            }
-            ++stats.capFaces;
-            stats.capVoxels += (w - 1) * (h - 1);
-        }
-    }
-
-    std::vector<Shell> m_shells;       // per shell of this frame
-    std::vector<CapRef> m_caps;        // the caps tested in the current shell
-    std::vector<std::uint32_t> m_pool; // all summed-area tables of this frame (reused across frames)
+    ShellCaps3D m_caps; // this frame's caps (reused across frames)
 };
 
 } // namespace rgvc
