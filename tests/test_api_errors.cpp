@@ -262,7 +262,7 @@ TEST_CASE("Culler options: TBV limits are checked with their field", "[errors][t
     };
     CHECK(withOptions([](CullerOptions& o) { o.tbvMaxFrames = 0; }) == "options.tbvMaxFrames");
     CHECK(withOptions([](CullerOptions& o) { o.tbvMaxFrames = 65537; }) == "options.tbvMaxFrames");
-    CHECK(withOptions([](CullerOptions& o) { o.tbvMaxGrowth = 0; }) == "options.tbvMaxGrowth");
+    CHECK(withOptions([](CullerOptions& o) { o.tbvMaxGrowth = -1; }) == "options.tbvMaxGrowth");
     CHECK(withOptions([](CullerOptions& o) { o.tbvMaxGrowth = std::nan(""); }) == "options.tbvMaxGrowth");
     CHECK(withOptions([](CullerOptions& o) { o.tbvMaxGrowth = INFINITY; }) == "options.tbvMaxGrowth");
     CHECK(withOptions([](CullerOptions& o) { o.tbvDiscretization = TbvDiscretization(7); }) == "options.tbvDiscretization");

@@ -428,7 +428,7 @@ template <int D> struct Session {
     std::string origin() const { // enough to replay the frame: the seed names the world, the options the culler
         const CullerOptions& o = culler.options();
         std::ostringstream os;
-        os << "seed " << w.seed << " frame " << frame << " (" << (!o.temporalBoundingVolumes ? "no TBVs" : o.tbvDiscretization == TbvDiscretization::Boundary ? "boundary" : "filled")
+        os << "seed " << w.seed << " frame " << frame << " (" << (!o.temporalBoundingVolumes ? "no TBVs" : o.tbvDiscretization == TbvDiscretization::Boundary ? "boundary" : o.tbvDiscretization == TbvDiscretization::Shell ? "shell" : "filled")
            << ", tbvMaxFrames " << o.tbvMaxFrames << ", tbvMaxGrowth " << o.tbvMaxGrowth << (push ? ", push" : "") << ")";
         return os.str();
     }
@@ -458,7 +458,7 @@ template <int D> struct Session {
         tally.add(r.stats);
         checkStats(w, culler, r, prev, prevPvs, push ? nullptr : &log, frame == 0, parkedAllowed, added, removed, origin(), fails);
         const CullerOptions& o = culler.options();
-        if (o.temporalBoundingVolumes && o.tbvDiscretization == TbvDiscretization::Boundary && frame > 0) {
+        if (o.temporalBoundingVolumes && tbvBoundaryOnly(o.tbvDiscretization) && frame > 0) {
             const IVec<D> now = w.grid.voxelOf(w.camera.position), d = glm::abs(now - camBefore);
             bool jumped = !camInBefore; // entering the grid counts as a jump
             for (int a = 0; a < D; ++a) jumped = jumped || d[a] > 1;
@@ -532,6 +532,7 @@ TEST_CASE("dynamic: 2D push mode (updateObject every frame, then cull(camera))",
 TEST_CASE("dynamic: 3D random scenes: boundary, filled, baseline, teleports, push", "[dynamics][tbv]") {
     runMany<3>("3D boundary", 6000, 40, 60, withTbv(TbvDiscretization::Boundary), 0);
     runMany<3>("3D filled", 6100, 12, 60, withTbv(TbvDiscretization::Filled), 0);
+    runMany<3>("3D shell", 6150, 12, 60, withTbv(TbvDiscretization::Shell), 0.05);
     runMany<3>("3D no TBVs", 6200, 6, 60, withTbv(TbvDiscretization::Boundary, false), 0);
     runMany<3>("3D teleports", 6300, 20, 60, withTbv(TbvDiscretization::Boundary), 0.1, true);
     runMany<3>("3D push", 6400, 8, 60, withTbv(TbvDiscretization::Boundary), 0.05, true, true);

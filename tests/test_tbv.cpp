@@ -271,11 +271,14 @@ TEST_CASE("tbv: 3D shell (2 of 3 projections) and filled box match brute force, 
     std::mt19937_64 rng(seed);
     std::size_t shellVoxels = 0;
     for (int iter = 0; iter < 1500; ++iter) {
-        const TbvDiscretization mode = iter % 3 == 2 ? TbvDiscretization::Filled : TbvDiscretization::Boundary;
+        // Shell stores the same voxels as Boundary, one list per voxel instead of three projections.
+        const TbvDiscretization mode = iter % 3 == 2   ? TbvDiscretization::Filled
+                                       : iter % 3 == 1 ? TbvDiscretization::Shell
+                                                       : TbvDiscretization::Boundary;
         const IVec3 res{sr::uniformInt(rng, 1, 20), sr::uniformInt(rng, 1, 20), sr::uniformInt(rng, 1, 20)};
         const int k = sr::uniformInt(rng, 1, 4);
         INFO("seed " << seed << " iteration " << iter << " grid " << res.x << "x" << res.y << "x" << res.z << " regions " << k
-                     << " mode " << (mode == TbvDiscretization::Boundary ? "boundary" : "filled"));
+                     << " mode " << int(mode) << " (0 boundary, 1 filled, 2 shell)");
         TbvMatrix<3> t(res);
         std::vector<TbvRegion<3>> regions;
         const std::size_t nk = static_cast<std::size_t>(k);
@@ -366,6 +369,11 @@ TEST_CASE("tbv: 3D boundary writes outlines (12 per box side), not faces", "[tbv
     CHECK(t.insert(1, r, TbvDiscretization::Boundary) == 3 * (2 * n + 2 * (n - 2)));
     TbvMatrix<3> f({64, 64, 64});
     CHECK(f.insert(1, r, TbvDiscretization::Filled) == 3 * n * n);
+    // Shell: the shell's voxels themselves, n^3 - (n - 2)^3.
+    TbvMatrix<3> sh({64, 64, 64});
+    CHECK(sh.insert(1, r, TbvDiscretization::Shell) == n * n * n - (n - 2) * (n - 2) * (n - 2));
+    CHECK(sh.erase(1, r, TbvDiscretization::Shell) == n * n * n - (n - 2) * (n - 2) * (n - 2));
+    CHECK(sh.incidences() == 0);
 }
 
 TEST_CASE("tbv: the 2D ring and 3D shell stop every segment from an outside camera to a point inside", "[tbv]") {
@@ -437,7 +445,7 @@ TEST_CASE("tbv: the 2D ring and 3D shell stop every segment from an outside came
         IVec3 lo, hi;
         if (!tbvVoxelBox3D(r, res, lo, hi)) continue;
         for (int trial = 0; trial < 10; ++trial) {
-            Vec3 cam, p;
+            Vec3 cam(0.0), p(0.0);
             for (int a = 0; a < 3; ++a) {
                 cam[a] = sr::uniform(rng, 0, res[a]);
                 p[a] = std::clamp(r.centre[a] + sr::uniform(rng, -r.radius, r.radius), 0.0, std::nextafter(double(res[a]), 0.0));

@@ -22,7 +22,11 @@
 //
 //   rgvc_bench3d [--scenario paper50|paper100|large|accuracy|all] [--frames N] [--repeats R] [--seed S]
 //                [--accuracy-frames N] [--reference-grid N] [--reference-targets N] [--spheres N]
-//                [--large-spheres N]
+//                [--large-spheres N] [--tbv boundary|shell|filled|off]
+//
+// --tbv picks how the cullers hold hidden moving spheres (CullerOptions::tbvDiscretization; off: no TBVs,
+// every sphere stays in O and I). The spheres are moved with updateObject (push): a hidden sphere whose
+// new placement stays inside its TBV costs O(1).
 #include "rgvc/dynamics/Culler.hpp"
 
 #include "ExactVisibility3D.hpp"
@@ -69,7 +73,8 @@ struct Variant {
 };
 
 constexpr int kVariants = 3;
-const Variant kVariantList[kVariants] = {{"rgvc (caps k-1, k-2, k-4, ...)", {true, true}},
+// Not const: --tbv sets the temporal-bounding-volume options of every variant.
+Variant kVariantList[kVariants] = {{"rgvc (caps k-1, k-2, k-4, ...)", {true, true}},
                                          {"rgvc, no extension (caps k-1)", {true, false}},
                                          {"grid VFC only (baseline)", {false, false}}};
 
@@ -111,6 +116,7 @@ void runTiming(const Setting& s, int frames, int repeats, std::uint64_t seed) {
     std::vector<double> ms[kVariants], cpuMs[kVariants];
     double pvsSum[kVariants] = {}, visitedSum[kVariants] = {}, occludedSum[kVariants] = {}, layersSum[kVariants] = {};
     int early[kVariants] = {};
+    double jumps = 0, created = 0, revealed = 0, hiddenSum = 0; // TBV activity of the first variant
     std::vector<double> updateMs, updateCpuMs;
     double addMs = 0;
     for (int rep = 0; rep < repeats; ++rep) {
@@ -138,6 +144,12 @@ void runTiming(const Setting& s, int frames, int repeats, std::uint64_t seed) {
                 occludedSum[k] += double(r.stats.voxelsOccluded);
                 layersSum[k] += r.stats.layers;
                 early[k] += r.stats.earlyTermination;
+                if (k == 0) {
+                    jumps += r.stats.cameraJump;
+                    created += r.stats.tbvsCreated;
+                    revealed += r.stats.tbvsRevealed + r.stats.tbvsRevealedByJump;
+                    hiddenSum += r.stats.hiddenObjects;
+                }
             }
             if ((f + 1) % 10 == 0 || f + 1 == frames)
                 std::fprintf(stderr, "\r  repeat %d/%d frame %d/%d", rep + 1, repeats, f + 1, frames);
@@ -157,6 +169,10 @@ void runTiming(const Setting& s, int frames, int repeats, std::uint64_t seed) {
                 "per frame; initial addObject of all: %.1f ms\n",
                 s.spheres, updateMean / n, percentile(updateMs, 0.5), percentile(updateCpuMs, 0.5), addMs / repeats);
     std::printf("(median/p90 ms: CullStats::cullMs, wall time; median cpu: this thread's CPU time for the same calls)\n");
+    if (kVariantList[0].options.temporalBoundingVolumes)
+        std::printf("TBVs (first variant), per frame: %.1f hidden, %.1f created, %.1f revealed; camera jumps in %.0f%% "
+                    "of frames\n",
+                    hiddenSum / n, created / n, revealed / n, 100.0 * jumps / n);
     if (s.targetMs > 0) {
         const double med = percentile(ms[0], 0.5), cpu = percentile(cpuMs[0], 0.5);
         std::printf("target: median cull <= %.1f ms per frame on one core: %s (wall %.3f ms, cpu %.3f ms)\n", s.targetMs,
@@ -302,11 +318,24 @@ int main(int argc, char** argv) {
         else if (a == "--reference-grid") refOpt.gridDivisions = std::max(0, std::atoi(need("--reference-grid").c_str()));
         else if (a == "--reference-targets") refOpt.targetDivisions = std::max(0, std::atoi(need("--reference-targets").c_str()));
         else if (a == "--seed") seed = std::strtoull(need("--seed").c_str(), nullptr, 10);
+        else if (a == "--tbv") {
+            const std::string t = need("--tbv");
+            for (Variant& v : kVariantList) {
+                v.options.temporalBoundingVolumes = t != "off";
+                v.options.tbvDiscretization = t == "filled" ? TbvDiscretization::Filled
+                                              : t == "shell" ? TbvDiscretization::Shell
+                                                             : TbvDiscretization::Boundary;
+            }
+            if (t != "off" && t != "filled" && t != "shell" && t != "boundary") {
+                std::fprintf(stderr, "rgvc_bench3d: --tbv boundary|shell|filled|off\n");
+                return 2;
+            }
+        }
         else {
             std::fprintf(stderr,
                          "usage: rgvc_bench3d [--scenario paper50|paper100|large|accuracy|all] [--frames N] [--repeats R] "
                          "[--accuracy-frames N] [--reference-grid N] [--reference-targets N] [--spheres N] [--large-spheres N] "
-                         "[--seed S]\n");
+                         "[--seed S] [--tbv boundary|shell|filled|off]\n");
             return a == "--help" || a == "-h" ? 0 : 2;
         }
     }

@@ -117,6 +117,11 @@ template <int D> struct Culler<D>::Impl {
         std::uint64_t lastPvsFrame = 0; // frameIndex of the last PVS holding it
         std::uint64_t placedFrame = 0;  // frameIndex of its last successful placement query
         std::uint64_t failedFrame = 0;  // frameIndex of its last failed placement query
+        // Hysteresis against reveal/re-hide cycles (see updateScene): the frame its TBV was last revealed
+        // by the traversal, how many such reveals in a row found it hidden, and until when it stays in O and I.
+        std::uint64_t revealedFrame = 0;
+        std::uint64_t holdUntil = 0;
+        std::uint8_t fruitless = 0;
         TbvRegion<D> tbv;
         std::uint64_t tbvExpiry = 0;    // first frame the TBV no longer covers
         std::uint32_t tbvGeneration = 0;
@@ -155,7 +160,9 @@ template <int D> struct Culler<D>::Impl {
     std::vector<VoxelKey> oldTouched, oldInner, newTouched, newInner;
 
     Impl(const GridGeometry<D>& g, const CullerOptions& o)
-        : grid(g), options(o), storage(g), tbvs(g.resolution()), expiring(std::size_t(o.tbvMaxFrames) + 2) {}
+        : grid(g), options(o), storage(g), tbvs(g.resolution()), expiring(std::size_t(o.tbvMaxFrames) + 2) {
+        if (options.tbvMaxGrowth == 0) options.tbvMaxGrowth = D == 2 ? 16.0 : 4.0;
+    }
 
     // ---- placements and rasterization ------------------------------------------------------------
 
@@ -309,7 +316,7 @@ template <int D> struct Culler<D>::Impl {
         for (int a = 0; a < D; ++a)
             room = std::min(room, std::min(b.center[a], double(grid.resolution()[a]) - b.center[a]));
         // Strictly clear of the camera voxel: tbvTouches() must say no, with its slack and some rounding.
-        if (cameraKnown && options.tbvDiscretization == TbvDiscretization::Boundary)
+        if (cameraKnown && tbvBoundaryOnly(options.tbvDiscretization))
             room = std::min(room, tbvGap(b.center, camera) - 4 * kConservativeSlack);
         // Rounding of world-to-voxel conversions, now and at every later placement.
         const double slack = 2 * grid.conversionSlack(p.worldMagnitude) + kConservativeSlack;
@@ -320,6 +327,11 @@ template <int D> struct Culler<D>::Impl {
         // (The 1e-9 keeps an exact quotient, 4 voxels / 1 voxel per frame, from rounding down to 3 frames.)
         double frames = std::min<double>(options.tbvMaxFrames,
                                          std::max(1.0, std::floor(options.tbvMaxGrowth / speed + 1e-9)));
+        // Up to a quarter shorter, by a hash of the slot: objects hidden in the same frame (all of them, in
+        // the first frames) would otherwise all expire in the same frame, again and again, and every
+        // renewal would land in a few frames (a p90 several times the median, measured).
+        const std::uint32_t hash = (std::uint32_t(&r - records.data()) * 2654435761u) >> 16;
+        frames -= std::floor(frames * 0.25 * double(hash) / 65536.0);
         frames = std::min(frames, std::floor((room - base) / speed));
         if (!(frames >= 1)) return false;
         region.radius = base + speed * frames;
@@ -400,7 +412,7 @@ template <int D> struct Culler<D>::Impl {
                 ++i;
             }
         } else {
-            const bool boundary = options.tbvDiscretization == TbvDiscretization::Boundary;
+            const bool boundary = tbvBoundaryOnly(options.tbvDiscretization);
             // §4.1's camera condition: a camera voxel that moved by more than one voxel on some axis may
             // have landed inside a TBV without crossing its boundary. Check them all (the only O(hidden)
             // step, and only on such frames).
@@ -433,7 +445,19 @@ template <int D> struct Culler<D>::Impl {
                 TbvRegion<D> region;
                 std::uint64_t expiry = 0;
                 const bool inPvs = r.lastPvsFrame + 1 == frameIndex;
-                if (!inPvs && cameraIn) {
+                if (inPvs) r.fruitless = 0;
+                // An object whose TBV the traversal revealed last frame, but which was not in the PVS, sits
+                // where its TBV reaches visible space while it stays hidden (just behind an occluder's edge,
+                // or in view behind other objects): a new TBV would be revealed again at once, costing T
+                // writes, a rasterization and a query every frame. It stays in O and I for 2, 4, ..., 32
+                // frames instead (costing what the no-TBV baseline costs for it), doubling while it repeats.
+                if (!inPvs && cameraIn && r.revealedFrame + 1 == frameIndex) {
+                    r.fruitless = std::uint8_t(std::min(r.fruitless + 1, 5));
+                    r.holdUntil = frameIndex + (std::uint64_t(1) << r.fruitless);
+                }
+                if (!inPvs && cameraIn && frameIndex < r.holdUntil) {
+                    ++st.tbvsHeld;
+                } else if (!inPvs && cameraIn) {
                     if (buildTbv(r, *p, true, camera, region, expiry)) {
                         detach(slot);
                         attachHidden(slot, *p, region, expiry);
@@ -466,6 +490,7 @@ template <int D> struct Culler<D>::Impl {
                 std::uint64_t expiry = 0;
                 if (buildTbv(r, *p, cameraIn, camera, region, expiry)) {
                     attachHidden(slot, *p, region, expiry);
+                    r.fruitless = 0; // it stayed hidden for a whole validity
                     ++st.tbvsRenewed;
                 } else {
                     attachTracked(slot, *p);
@@ -492,6 +517,7 @@ template <int D> struct Culler<D>::Impl {
     /// visited (this layer and earlier ones) are checked now, with the same rule (visited, not in H).
     void revealDuringTraversal(ObjectSlot slot, CullStats& st) {
         ++st.tbvsRevealed;
+        records[slot].revealedFrame = frameIndex;
         if (!reveal(slot, st)) {
             addToPvs(slot);
             return;
@@ -606,9 +632,10 @@ template <int D> Culler<D>::Culler(const GridGeometry<D>& grid, const CullerOpti
     Impl::Traits::checkGrid(grid);
     if (options.tbvMaxFrames < 1 || options.tbvMaxFrames > 65536)
         throw InvalidInput("options.tbvMaxFrames", "must be in [1, 65536], got " + std::to_string(options.tbvMaxFrames));
-    if (!std::isfinite(options.tbvMaxGrowth) || !(options.tbvMaxGrowth > 0))
-        throw InvalidInput("options.tbvMaxGrowth", "must be finite and > 0");
-    if (options.tbvDiscretization != TbvDiscretization::Boundary && options.tbvDiscretization != TbvDiscretization::Filled)
+    if (!std::isfinite(options.tbvMaxGrowth) || !(options.tbvMaxGrowth >= 0))
+        throw InvalidInput("options.tbvMaxGrowth", "must be finite and >= 0");
+    if (options.tbvDiscretization != TbvDiscretization::Boundary && options.tbvDiscretization != TbvDiscretization::Filled &&
+        options.tbvDiscretization != TbvDiscretization::Shell)
         throw InvalidInput("options.tbvDiscretization", "unknown value");
     try {
         m_impl = std::make_unique<Impl>(grid, options);

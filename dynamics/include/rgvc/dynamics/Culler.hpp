@@ -101,6 +101,7 @@ struct CullStats {
     std::uint32_t tbvsRenewed = 0;        ///< expired TBVs rebuilt around the object's current placement
     std::uint32_t tbvsRevealed = 0;       ///< TBVs met in a visited, non-occluded voxel: object re-inserted
     std::uint32_t tbvsRefused = 0;        ///< objects kept in O and I: a TBV would touch the camera voxel or leave the grid
+    std::uint32_t tbvsHeld = 0;           ///< objects kept in O and I for a few frames: their last TBV was revealed while they stayed hidden
     bool cameraJump = false;              ///< boundary TBVs existed and the camera voxel moved > 1 voxel on some axis (or entered the grid): every TBV was checked against it
     std::uint32_t tbvsRevealedByJump = 0; ///< of those, TBVs that held the new camera voxel
     std::uint32_t speedViolations = 0;    ///< objects found outside their TBV: they moved faster than maxSpeed
@@ -144,9 +145,11 @@ struct CullerOptions {
     TbvDiscretization tbvDiscretization = TbvDiscretization::Boundary;
     /// [Frames] [Limit] 1..65536. The longest validity of a TBV of a moving object.
     std::uint32_t tbvMaxFrames = 256;
-    /// [Voxels] [Limit] finite, > 0. A TBV's radius grows by at most this over its validity: slow objects
-    /// get long validities, fast ones short (cost of renewals against cost of larger TBVs).
-    double tbvMaxGrowth = 4.0;
+    /// [Voxels] [Limit] finite, >= 0. A TBV's radius grows by at most this over its validity: slow objects
+    /// get long validities, fast ones short. 0 picks the measured default: 16 in 2D, where a renewal's
+    /// cost (a ring) grows only linearly with the radius, and 4 in 3D, where T grows with the cube's side
+    /// and large cubes are revealed sooner (README, "Measured figures").
+    double tbvMaxGrowth = 0;
 };
 
 template <int D> class Culler {

@@ -35,12 +35,19 @@
 // the same 2-of-3 test then selects the voxel box). It needs no condition on the camera and costs area
 // instead of perimeter; it is kept as an option to compare against (CullerOptions::tbvDiscretization).
 //
+// The shell variant (3D) stores the same shell voxels as Boundary, but per voxel: 6 n^2 writes instead of
+// 12 n, and a lookup reads one list instead of three. Projections of many TBVs pile up in the planes (a
+// plane cell collects every TBV whose outline projects onto it, whatever its depth), so with thousands of
+// TBVs every visited voxel walks three long lists; measured on the moving-spheres benchmark, that made
+// the 2-of-3 test the largest cost of the frame (README, "Measured figures").
+//
 // Regions may reach outside the grid: only in-grid voxels are stored. For a camera and an object point
 // inside the grid this stays correct, since the segment between them stays in the (convex) grid and
 // crosses the clipped region's boundary there.
 #pragma once
 
 #include "rgvc/grid/Math.hpp"
+#include "rgvc/grid/TbvListPool.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
 
 #include <cmath>
@@ -56,9 +63,13 @@ template <int D> struct TbvRegion {
 };
 
 enum class TbvDiscretization : std::uint8_t {
-    Boundary, ///< ring (2D) or shell outlines (3D): the paper's choice; needs a continuous camera path
+    Boundary, ///< ring (2D) or shell outlines in Txy, Txz, Tyz (3D): the paper's choice
     Filled,   ///< the whole region: no condition on the camera, more T writes
+    Shell,    ///< 3D: the outer shell's voxels in a per-voxel T (2D: the ring, as Boundary)
 };
+
+/// Whether a discretization stores only a boundary, which needs the camera outside the region.
+inline bool tbvBoundaryOnly(TbvDiscretization d) { return d != TbvDiscretization::Filled; }
 
 /// [Voxel units] Distance from c to the closed voxel v in the region's metric: Euclidean in 2D (discs),
 /// Chebyshev in 3D (cubes). A region touches v iff tbvGap(centre, v) <= radius (+ slack).
@@ -141,14 +152,11 @@ public:
         ++m_live;
         return n;
     }
-    /// Removes a region added with the same arguments. Returns the incidences removed.
-    std::size_t erase(ObjectSlot slot, const TbvRegion<2>& r, TbvDiscretization mode) {
-        std::size_t n = 0;
-        forEachTbvRun2D(r, m_res, mode, [&](std::int32_t y, std::int32_t x0, std::int32_t x1) {
-            for (std::int32_t x = x0; x <= x1; ++x) n += m_lists.remove(m_heads[key(x, y)], slot);
-        });
+    /// Removes the slot's region (added with these arguments). Returns the incidences removed. Cost: the
+    /// region's own cells, whatever the lengths of their lists.
+    std::size_t erase(ObjectSlot slot, const TbvRegion<2>& /*r*/, TbvDiscretization /*mode*/) {
         --m_live;
-        return n;
+        return m_lists.eraseAll(slot);
     }
     /// Appends the slots whose TBV covers voxel v (in the grid) to out.
     void collectAt(const IVec2& v, std::vector<ObjectSlot>& out) const {
@@ -165,16 +173,22 @@ private:
     std::size_t key(std::int32_t x, std::int32_t y) const { return std::size_t(x) + std::size_t(y) * std::size_t(m_res.x); }
     IVec2 m_res;
     std::vector<std::uint32_t> m_heads;
-    SlotListPool m_lists;
+    TbvListPool m_lists;
     std::size_t m_live = 0;
 };
 
-/// 3D T as three projection planes Txy, Txz, Tyz of slot lists (§5.2). Allocated on the first insert.
+/// 3D T as three projection planes Txy, Txz, Tyz of slot lists (§5.2), or (Shell) one list per voxel.
+/// Allocated on the first insert of either kind.
 template <> class TbvMatrix<3> {
 public:
     explicit TbvMatrix(const IVec3& res) : m_res(res) {}
 
     std::size_t insert(ObjectSlot slot, const TbvRegion<3>& r, TbvDiscretization mode) {
+        if (mode == TbvDiscretization::Shell) {
+            if (m_voxels.empty()) m_voxels.assign(std::size_t(m_res.x) * std::size_t(m_res.y) * std::size_t(m_res.z), kNone);
+            ++m_live;
+            return forEachShellVoxel(r, [&](std::uint32_t& head) { m_lists.add(head, slot); });
+        }
         if (m_xy.empty()) {
             m_xy.assign(std::size_t(m_res.x) * std::size_t(m_res.y), kNone);
             m_xz.assign(std::size_t(m_res.x) * std::size_t(m_res.z), kNone);
@@ -187,14 +201,16 @@ public:
         ++m_live;
         return forEachCell(r, mode, [&](std::uint32_t& head) { m_lists.add(head, slot); });
     }
-    std::size_t erase(ObjectSlot slot, const TbvRegion<3>& r, TbvDiscretization mode) {
+    std::size_t erase(ObjectSlot slot, const TbvRegion<3>& /*r*/, TbvDiscretization /*mode*/) {
         --m_live;
-        return forEachCell(r, mode, [&](std::uint32_t& head) { m_lists.remove(head, slot); });
+        return m_lists.eraseAll(slot);
     }
     /// Appends the slots held by at least two of Txy(x, y), Txz(x, z), Tyz(y, z). Cost: one read per plane,
     /// plus the three lists' lengths when two or more are non-empty.
     void collectAt(const IVec3& v, std::vector<ObjectSlot>& out) {
         if (m_live == 0) return;
+        if (!m_voxels.empty()) m_lists.forEach(m_voxels[voxel(v)], [&](ObjectSlot s) { out.push_back(s); });
+        if (m_xy.empty()) return;
         const std::uint32_t a = m_xy[xy(v.x, v.y)], b = m_xz[xz(v.x, v.z)], c = m_yz[yz(v.y, v.z)];
         if (int(a != kNone) + int(b != kNone) + int(c != kNone) < 2) return;
         if (++m_stamp == 0) { // wrapped: forget every old stamp
@@ -217,14 +233,40 @@ public:
     }
     bool holdsAt(const IVec3& v) const {
         if (m_live == 0) return false;
+        if (!m_voxels.empty() && m_voxels[voxel(v)] != kNone) return true;
+        if (m_xy.empty()) return false;
         return int(m_xy[xy(v.x, v.y)] != kNone) + int(m_xz[xz(v.x, v.z)] != kNone) + int(m_yz[yz(v.y, v.z)] != kNone) >= 2;
     }
 
     std::size_t liveRegions() const { return m_live; }
-    bool allocated() const { return !m_xy.empty(); }
+    bool allocated() const { return !m_xy.empty() || !m_voxels.empty(); }
     std::size_t incidences() const { return m_lists.size(); }
 
 private:
+    std::size_t voxel(const IVec3& v) const {
+        return std::size_t(v.x) + std::size_t(m_res.x) * (std::size_t(v.y) + std::size_t(m_res.y) * std::size_t(v.z));
+    }
+
+    /// Calls fn(head) for every voxel of the outer shell of the region's voxel box; returns the count.
+    template <class Fn> std::size_t forEachShellVoxel(const TbvRegion<3>& r, Fn&& fn) {
+        IVec3 lo, hi;
+        if (!tbvVoxelBox3D(r, m_res, lo, hi)) return 0;
+        std::size_t n = 0;
+        for (std::int32_t z = lo.z; z <= hi.z; ++z)
+            for (std::int32_t y = lo.y; y <= hi.y; ++y) {
+                const std::size_t row = voxel({0, y, z});
+                if (z == lo.z || z == hi.z || y == lo.y || y == hi.y) {
+                    for (std::int32_t x = lo.x; x <= hi.x; ++x) fn(m_voxels[row + std::size_t(x)]);
+                    n += std::size_t(hi.x - lo.x + 1);
+                } else {
+                    fn(m_voxels[row + std::size_t(lo.x)]);
+                    if (hi.x != lo.x) fn(m_voxels[row + std::size_t(hi.x)]);
+                    n += hi.x != lo.x ? 2 : 1;
+                }
+            }
+        return n;
+    }
+
     std::size_t xy(std::int32_t x, std::int32_t y) const { return std::size_t(x) + std::size_t(y) * std::size_t(m_res.x); }
     std::size_t xz(std::int32_t x, std::int32_t z) const { return std::size_t(x) + std::size_t(z) * std::size_t(m_res.x); }
     std::size_t yz(std::int32_t y, std::int32_t z) const { return std::size_t(y) + std::size_t(z) * std::size_t(m_res.y); }
@@ -256,7 +298,8 @@ private:
 
     IVec3 m_res;
     std::vector<std::uint32_t> m_xy, m_xz, m_yz;
-    SlotListPool m_lists;
+    std::vector<std::uint32_t> m_voxels; // Shell: one list head per voxel
+    TbvListPool m_lists;
     std::vector<std::uint32_t> m_seen, m_emitted; // per slot: stamps of the current collectAt
     std::uint32_t m_stamp = 0;
     std::size_t m_live = 0;
