@@ -64,7 +64,7 @@ const char* const kCullUsage =
     "part), cull_call_ms (= cull_ms), object_count, pvs_size, layers, voxels_visited, voxels_occluded,\n"
     "occluders_extended, occluder_voxels, shadows, voxels_marked_occluded, early_termination,\n"
     "occlusion_skipped, fallback, objects_outside_grid, placement_queries, tracked_objects,\n"
-    "hidden_objects, tbvs_created, tbvs_renewed, tbvs_revealed, tbvs_refused, camera_jump,\n"
+    "hidden_objects, tbvs_created, tbvs_renewed, tbvs_revealed, tbvs_refused, tbvs_held, camera_jump,\n"
     "speed_violations, grid_writes, tbv_lookups_skipped; frame 0 adds setup_ms.\n"
     "\n"
     "Exit status: 0 success; 2 bad input (one line \"FILE: FIELD: PROBLEM\" on stderr) or bad usage\n"
@@ -160,6 +160,7 @@ ojson statsJson(const CullStats& s) {
     j["tbvs_renewed"] = s.tbvsRenewed;
     j["tbvs_revealed"] = s.tbvsRevealed;
     j["tbvs_refused"] = s.tbvsRefused;
+    j["tbvs_held"] = s.tbvsHeld;
     j["camera_jump"] = s.cameraJump;
     j["speed_violations"] = s.speedViolations;
     j["grid_writes"] = s.gridWrites;
