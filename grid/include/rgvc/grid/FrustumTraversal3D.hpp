@@ -247,6 +247,22 @@ private:
                 }
                 if (storage.opaque(VoxelKey(rowKey + u * step))) m_caps.addBlocked(oRow + e1 * u, k);
             }
+            // Where the margin reaches the square's edge it continues on the neighbouring face (same shell,
+            // one and two voxels nearer along this face's axis), which the frustum may not reach at all.
+            for (std::int32_t u : {from, to})
+                if (u == -k || u == k) recordEdgeStrip(grid, storage, c, k, oRow + e1 * u, oFace);
+            if (v == -k || v == k)
+                for (std::int32_t u = from; u <= to; ++u) recordEdgeStrip(grid, storage, c, k, oRow + e1 * u, oFace);
+        }
+    }
+
+    /// The voxels at o - d * (face axis), d = 1, 2 (o on the face's edge): on the neighbouring face of shell k.
+    void recordEdgeStrip(const GridGeometry3& grid, const Storage& storage, const IVec3& c, std::int32_t k, const IVec3& o,
+                         const IVec3& oFace) {
+        const IVec3 inward = -oFace / k; // unit vector from the face towards the camera along its axis
+        for (std::int32_t d = 1; d <= 2; ++d) {
+            const IVec3 q = o + inward * d;
+            if (grid.contains(c + q) && storage.opaque(grid.linearIndex(c + q))) m_caps.addBlocked(q, k);
         }
     }
 
