@@ -211,9 +211,9 @@ private:
     }
 
     /// Opaque voxels next to the visited part of a face are blockers too: the footprint of a later voxel near
-    /// the frustum's side reaches up to a couple of voxels past it. They are read, not visited: for every row
-    /// v (the visited rows and two beyond), the span of rows v-2..v+2 grown by two, minus v's own visited
-    /// span. Without the rows around a slanted edge (a view turned by a fraction of a degree), a cap has holes
+    /// the frustum's side reaches a few voxels past it. They are read, not visited: for every row v (the
+    /// visited rows and kMargin beyond), the span of rows v-kMargin..v+kMargin grown by kMargin, minus v's
+    /// own visited span. Without the rows around a slanted edge (a view turned by a fraction of a degree), a cap has holes
     /// all along the frustum's edges, the voxels there stay out of H shell after shell, and behind a wall
     /// spanning the whole view the traversal never terminates (found by rgvc_bench_dynamic: a 256 x 128 wall
     /// leaked 50,000 voxels with the view turned by 0.6 degrees).
@@ -221,18 +221,23 @@ private:
                        const IVec3& oFace, const IVec3& e1, const IVec3& e2, int b1, int b2, const IVec2& lo,
                        const IVec2& hi, std::int64_t step) {
         const IVec3 res = grid.resolution();
-        const std::int32_t vMin = std::max({lo.y - 2, -k, -c[b2]}), vMax = std::min({hi.y + 2, k, res[b2] - 1 - c[b2]});
+        // Four, not two: with the view turned by a degree, the footprints of voxels at the frustum's corners
+        // reach three to four voxels past the visited rows of earlier shells (measured on the leaking wall:
+        // two rows fixed a 0.6 degree turn, four a 1.1 degree one; larger turns still leak, README).
+        constexpr std::int32_t kMargin = 4;
+        const std::int32_t vMin = std::max({lo.y - kMargin, -k, -c[b2]});
+        const std::int32_t vMax = std::min({hi.y + kMargin, k, res[b2] - 1 - c[b2]});
         const std::int32_t uMinFace = std::max(-k, -c[b1]), uMaxFace = std::min(k, res[b1] - 1 - c[b1]);
         auto spanOf = [&](std::int32_t v) {
             return v < lo.y || v > hi.y ? IVec2(1, 0) : m_spans[std::size_t(v - lo.y)];
         };
         for (std::int32_t v = vMin; v <= vMax; ++v) {
             std::int32_t from = std::numeric_limits<std::int32_t>::max(), to = std::numeric_limits<std::int32_t>::min();
-            for (std::int32_t w = v - 2; w <= v + 2; ++w) {
+            for (std::int32_t w = v - kMargin; w <= v + kMargin; ++w) {
                 const IVec2 sp = spanOf(w);
                 if (sp.x > sp.y) continue;
-                from = std::min(from, sp.x - 2);
-                to = std::max(to, sp.y + 2);
+                from = std::min(from, sp.x - kMargin);
+                to = std::max(to, sp.y + kMargin);
             }
             from = std::max(from, uMinFace);
             to = std::min(to, uMaxFace);
