@@ -8,6 +8,8 @@
 //   rgvc_bench2d [--scenario fig1|large|accuracy|all] [--frames N] [--repeats R] [--seed S]
 #include "rgvc/dynamics/Culler.hpp"
 
+#include "BenchSupport.hpp"
+
 #include "ExactVisibility2D.hpp"
 
 #include <algorithm>
@@ -21,6 +23,7 @@
 #include <vector>
 
 using namespace rgvc;
+using namespace rgvc::bench;
 
 namespace {
 
@@ -97,12 +100,6 @@ void stepMotion(BenchScene& s, Culler2D* cullers[], int cullerCount, double& upd
         for (int k = 0; k < cullerCount; ++k) cullers[k]->updateObject(o.desc.id, o.desc.shape);
     }
     updateMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / cullerCount;
-}
-
-double percentile(std::vector<double> v, double q) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, std::size_t(q * (v.size() - 1) + 0.5))];
 }
 
 struct Variant {
@@ -196,14 +193,6 @@ void runAccuracy(int scenes, std::uint64_t seed) {
     std::printf("misses: %llu (must be 0)\n", (unsigned long long)misses);
     std::printf("mean |PVS|/|visible| = %.3f   mean |VFC|/|visible| = %.3f   (mean |PVS| %.1f, mean |visible| %.1f)\n",
                 overSum / std::max(1, counted), vfcSum / std::max(1, counted), pvsSum / scenes, visSum / scenes);
-}
-
-std::string machine() {
-    std::ifstream f("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(f, line))
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    return "unknown CPU";
 }
 
 } // namespace

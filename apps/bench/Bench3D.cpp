@@ -29,6 +29,8 @@
 // new placement stays inside its TBV costs O(1).
 #include "rgvc/dynamics/Culler.hpp"
 
+#include "BenchSupport.hpp"
+
 #include "ExactVisibility3D.hpp"
 #include "RandomScenes3D.hpp"
 
@@ -46,26 +48,9 @@
 
 using namespace rgvc;
 namespace ref = rgvc::reference;
+using namespace rgvc::bench;
 
 namespace {
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-/// CPU time of this thread: on a shared machine it leaves out the time the thread waited for a core,
-/// which the wall time (CullStats::cullMs) includes.
-double threadCpuMs() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-}
-
-double percentile(std::vector<double> v, double q) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, std::size_t(q * double(v.size() - 1) + 0.5))];
-}
 
 struct Variant {
     const char* name;
@@ -274,14 +259,6 @@ void runAccuracy(const std::vector<Setting>& settings, int frames, const ref::Vi
     for (std::uint64_t m : misses) total += m;
     std::printf("misses: %llu (must be 0)\n", (unsigned long long)total);
     std::fflush(stdout);
-}
-
-std::string machine() {
-    std::ifstream f("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(f, line))
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    return "unknown CPU";
 }
 
 } // namespace

@@ -43,6 +43,8 @@
 // runs alone.
 #include "rgvc/dynamics/Culler.hpp"
 
+#include "BenchSupport.hpp"
+
 #include "ExactVisibility2D.hpp"
 #include "ExactVisibility3D.hpp"
 #include "RandomScenes2D.hpp"
@@ -65,45 +67,12 @@
 
 using namespace rgvc;
 namespace ref = rgvc::reference;
+using namespace rgvc::bench;
 namespace sr = rgvc::reference::seeded;
 
 namespace {
 
 unsigned long long U(std::uint64_t v) { return v; } // for %llu
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-/// CPU time of this thread: on a shared machine it leaves out the time spent waiting for a core.
-double threadCpuMs() {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-}
-
-double percentile(std::vector<double> v, double q) {
-    if (v.empty()) return 0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, std::size_t(q * double(v.size() - 1) + 0.5))];
-}
-
-/// [KiB] resident set size of this process (VmRSS), 0 if unreadable.
-long rssKiB() {
-    std::ifstream f("/proc/self/status");
-    std::string line;
-    while (std::getline(f, line))
-        if (line.rfind("VmRSS:", 0) == 0) return std::atol(line.c_str() + 6);
-    return 0;
-}
-
-std::string machine() {
-    std::ifstream f("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(f, line))
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    return "unknown CPU";
-}
 
 /// x folded into [lo, hi] by reflection at both ends (a triangle wave): moving p0 + v * t through it
 /// keeps the speed |v| and needs no state, so any frame's position costs the same.

@@ -138,20 +138,21 @@ public:
                     auto keyOf = [&](std::int32_t u) { return VoxelKey(rowKey + u * step); };
                     if (options.occlusion) m_spans[std::size_t(v - lo.y)] = {u0, u1};
                     // Some cap may hide voxel u where masks[u] != 0 (null: nowhere on this row).
+                    // Indexed by u - maskU0 (a pointer shifted before the array would be undefined behaviour).
                     const ShellCaps3D::CapMask* masks = testCaps ? m_caps.maskRow(v) : nullptr;
-                    if (masks != nullptr) masks -= m_caps.maskU0();
+                    const std::int32_t maskU0 = m_caps.maskU0();
                     if (hasFar) { // rare: the far ball's test for every voxel
                         for (std::int32_t u = u0; u <= u1; ++u) {
                             const IVec3 o = oRow + e1 * u;
                             if (!frustum.withinFar(Vec3(c + o), Vec3(c + o) + 1.0)) continue;
-                            visitChunk(storage, keyOf(u), step, 1, o, e1, c, k, face, masks ? masks + u : nullptr,
+                            visitChunk(storage, keyOf(u), step, 1, o, e1, c, k, face, masks ? masks + (u - maskU0) : nullptr,
                                        options, stamp, onVoxel, inGrid, open, occluded, opaque);
                         }
                         continue;
                     }
                     for (std::int32_t u = u0; u <= u1; u += 32)
                         visitChunk(storage, keyOf(u), step, std::min<std::int32_t>(32, u1 - u + 1), oRow + e1 * u, e1, c, k,
-                                   face, masks ? masks + u : nullptr, options, stamp, onVoxel, inGrid, open, occluded,
+                                   face, masks ? masks + (u - maskU0) : nullptr, options, stamp, onVoxel, inGrid, open, occluded,
                                    opaque);
                 }
                 if (options.occlusion) recordMargins(grid, storage, c, k, oFace, e1, e2, b1, b2, lo, hi, step);

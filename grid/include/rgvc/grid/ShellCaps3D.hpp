@@ -151,8 +151,8 @@ public:
                     row = m_masks.size();
                     m_masks.resize(m_masks.size() + m_maskWidth, 0);
                 }
-                CapMask* m = m_masks.data() + row - std::size_t(lo.x);
-                for (std::int32_t u = u0; u <= u1; ++u) m[u] |= r.caps;
+                CapMask* m = m_masks.data() + row; // indexed by u - lo.x (no pointer before the array)
+                for (std::int32_t u = u0; u <= u1; ++u) m[std::size_t(u - lo.x)] |= r.caps;
             }
         }
         return !m_masks.empty();
