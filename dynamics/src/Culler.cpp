@@ -122,6 +122,7 @@ template <int D> struct Culler<D>::Impl {
         std::uint64_t revealedFrame = 0;
         std::uint64_t holdUntil = 0;
         std::uint8_t fruitless = 0;
+        std::uint8_t growthLevel = 0;   // its TBVs grow by tbvMaxGrowth / 2^growthLevel (see updateScene)
         TbvRegion<D> tbv;
         std::uint64_t tbvExpiry = 0;    // first frame the TBV no longer covers
         std::uint32_t tbvGeneration = 0;
@@ -161,7 +162,7 @@ template <int D> struct Culler<D>::Impl {
 
     Impl(const GridGeometry<D>& g, const CullerOptions& o)
         : grid(g), options(o), storage(g), tbvs(g.resolution()), expiring(std::size_t(o.tbvMaxFrames) + 2) {
-        if (options.tbvMaxGrowth == 0) options.tbvMaxGrowth = D == 2 ? 16.0 : 4.0;
+        if (options.tbvMaxGrowth == 0) options.tbvMaxGrowth = D == 2 ? 32.0 : 4.0;
     }
 
     // ---- placements and rasterization ------------------------------------------------------------
@@ -325,8 +326,8 @@ template <int D> struct Culler<D>::Impl {
         const double speed = stepOf(r); // > 0: objects without a speed are static
         region.centre = b.center;
         // (The 1e-9 keeps an exact quotient, 4 voxels / 1 voxel per frame, from rounding down to 3 frames.)
-        double frames = std::min<double>(options.tbvMaxFrames,
-                                         std::max(1.0, std::floor(options.tbvMaxGrowth / speed + 1e-9)));
+        const double growth = options.tbvMaxGrowth / double(1u << r.growthLevel);
+        double frames = std::min<double>(options.tbvMaxFrames, std::max(1.0, std::floor(growth / speed + 1e-9)));
         // Up to a quarter shorter, by a hash of the slot: objects hidden in the same frame (all of them, in
         // the first frames) would otherwise all expire in the same frame, again and again, and every
         // renewal would land in a few frames (a p90 several times the median, measured).
@@ -451,9 +452,13 @@ template <int D> struct Culler<D>::Impl {
                 // or in view behind other objects): a new TBV would be revealed again at once, costing T
                 // writes, a rasterization and a query every frame. It stays in O and I for 2, 4, ..., 32
                 // frames instead (costing what the no-TBV baseline costs for it), doubling while it repeats.
+                // Its next TBVs are also smaller (half the growth per such reveal, down to 1/16): a large TBV
+                // pays off far from the view (fewer renewals) and is revealed at once near it. A TBV that
+                // lives out its validity unrevealed doubles the growth back.
                 if (!inPvs && cameraIn && r.revealedFrame + 1 == frameIndex) {
                     r.fruitless = std::uint8_t(std::min(r.fruitless + 1, 5));
                     r.holdUntil = frameIndex + (std::uint64_t(1) << r.fruitless);
+                    r.growthLevel = std::uint8_t(std::min(r.growthLevel + 1, 4));
                 }
                 if (!inPvs && cameraIn && frameIndex < r.holdUntil) {
                     ++st.tbvsHeld;
@@ -488,6 +493,7 @@ template <int D> struct Culler<D>::Impl {
                 if (!ballInside(boundingBall<D>(p->local), grown)) ++st.speedViolations;
                 TbvRegion<D> region;
                 std::uint64_t expiry = 0;
+                if (r.growthLevel > 0) --r.growthLevel; // unrevealed for a whole validity: grow larger again
                 if (buildTbv(r, *p, cameraIn, camera, region, expiry)) {
                     attachHidden(slot, *p, region, expiry);
                     r.fruitless = 0; // it stayed hidden for a whole validity

@@ -144,11 +144,13 @@ struct CullerOptions {
     /// How a TBV is written into T (TbvMatrix.hpp): its boundary (the paper's choice) or its whole region.
     TbvDiscretization tbvDiscretization = TbvDiscretization::Boundary;
     /// [Frames] [Limit] 1..65536. The longest validity of a TBV of a moving object.
-    std::uint32_t tbvMaxFrames = 256;
+    std::uint32_t tbvMaxFrames = 1024;
     /// [Voxels] [Limit] finite, >= 0. A TBV's radius grows by at most this over its validity: slow objects
-    /// get long validities, fast ones short. 0 picks the measured default: 16 in 2D, where a renewal's
-    /// cost (a ring) grows only linearly with the radius, and 4 in 3D, where T grows with the cube's side
-    /// and large cubes are revealed sooner (README, "Measured figures").
+    /// get long validities, fast ones short. An object whose TBV is revealed while it stays hidden gets
+    /// half the growth next time (down to 1/16), and back up after a validity unrevealed. 0 picks the
+    /// measured default: 32 in 2D, where a renewal writes contiguous runs of a ring whose length grows
+    /// only linearly with the radius, so fewer, larger renewals win (README, "Dynamic scenes"), and 4 in
+    /// 3D, where T grows with the cube's side.
     double tbvMaxGrowth = 0;
 };
 
