@@ -319,6 +319,14 @@ TEST_CASE("validateShape and validateCamera name the field under the caller's pr
     CHECK_NOTHROW(validateCamera<2>(camera({0, 0}, {1e300, 1e300}, 90)));
     CHECK_NOTHROW(validateCamera<2>(camera({0, 0}, {1e-200, 0}, 90)));
     CHECK_NOTHROW(validateCamera<2>(camera({0, 0}, {0, -std::numeric_limits<double>::denorm_min()}, 90)));
+    // A polygon that runs along a line and back (behind a repeated point) is refused, not treated as
+    // its hull (found by fuzz_culler2d: the culler and the reference disagreed on its interior).
+    Shape<2> doubled = ConvexPolygon{{{1.5, 1.5}, {1.5, 1.5}, {-2.5, 1.5}, {1.5, 1.5}, {5, 1.5}, {21.25, 45.25}}};
+    CHECK(fieldOf([&] { validateShape<2>(doubled, "p"); }) == "p.points");
+    // Repeated points alone are dropped.
+    Shape<2> repeated = ConvexPolygon{{{0, 0}, {0, 0}, {4, 0}, {4, 3}, {0, 0}}};
+    validateShape<2>(repeated, "p");
+    CHECK(std::get<ConvexPolygon>(repeated).points.size() == 3);
 }
 
 TEST_CASE("Culler2D::addObject rejects bad objects and changes nothing", "[errors]") {

@@ -138,20 +138,33 @@ template <int D> inline void validateShape(Shape<D>& s, const std::string& field
                 if (!(std::abs(area) > 0) || !std::isfinite(area))
                     throw InvalidInput(field + ".points", "polygon has zero area");
                 // Checked on a counter-clockwise copy: a rejected polygon goes back to the caller untouched.
-                std::vector<Vec2> ccw = x.points;
-                if (area < 0) std::reverse(ccw.begin(), ccw.end());
+                // Repeated consecutive points carry no edge and are dropped; without that, a polygon that
+                // runs along a line and back ((a, b, a, c, ...), found by fuzz_culler2d) hides its
+                // reversal behind a zero-length edge and passes the turning test below.
+                std::vector<Vec2> ccw;
+                ccw.reserve(n);
                 for (std::size_t i = 0; i < n; ++i) {
+                    const Vec2& q = x.points[area < 0 ? n - 1 - i : i];
+                    if (ccw.empty() || q != ccw.back()) ccw.push_back(q);
+                }
+                while (ccw.size() > 1 && ccw.back() == ccw.front()) ccw.pop_back();
+                const std::size_t m = ccw.size();
+                if (m < 3) throw InvalidInput(field + ".points", "a polygon needs at least 3 distinct points");
+                for (std::size_t i = 0; i < m; ++i) {
                     const Vec2& a = ccw[i];
-                    const Vec2& b = ccw[(i + 1) % n];
-                    const Vec2& c = ccw[(i + 2) % n];
-                    if (cross2(b - a, c - b) < 0) throw InvalidInput(field + ".points", "polygon is not convex");
+                    const Vec2& b = ccw[(i + 1) % m];
+                    const Vec2& c = ccw[(i + 2) % m];
+                    const double turn = cross2(b - a, c - b);
+                    if (turn < 0) throw InvalidInput(field + ".points", "polygon is not convex");
+                    if (turn == 0 && glm::dot(b - a, c - b) < 0)
+                        throw InvalidInput(field + ".points", "polygon doubles back on itself");
                 }
                 // A convex polygon winds around once: the turning angles sum to 2*pi. A star-shaped
                 // self-intersecting "polygon" has all left turns too but winds more than once.
                 double turning = 0;
-                for (std::size_t i = 0; i < n; ++i) {
-                    Vec2 e0 = ccw[(i + 1) % n] - ccw[i];
-                    Vec2 e1 = ccw[(i + 2) % n] - ccw[(i + 1) % n];
+                for (std::size_t i = 0; i < m; ++i) {
+                    Vec2 e0 = ccw[(i + 1) % m] - ccw[i];
+                    Vec2 e1 = ccw[(i + 2) % m] - ccw[(i + 1) % m];
                     turning += std::atan2(cross2(e0, e1), glm::dot(e0, e1));
                 }
                 if (turning > 2 * 3.141592653589793 + 1e-6)
