@@ -361,6 +361,21 @@ TEST_CASE("error messages stay on one line", "[scene]") {
     CHECK(reject(j) == "objects[0].shape");
 }
 
+TEST_CASE("field paths built from keys with line breaks stay on one line (fuzz_scene_loader finds)", "[scene]") {
+    std::string text = example2D().dump();
+    auto replaced = [&](const std::string& from, const std::string& to) {
+        std::string t = text;
+        auto at = t.find(from);
+        REQUIRE(at != std::string::npos);
+        return t.replace(at, from.size(), to);
+    };
+    // An overflowing number under a key holding "\r": the field names the key, flattened like the message.
+    CHECK(rejectText(replaced("\"radius\":3.5", "\"rad\\rius\":1e999")) == "objects[0].rad ius");
+    // "number overflow" quoted from a key in a plain syntax error is a syntax error (a position), not a field.
+    const std::string field = rejectText(replaced("\"radius\":3.5", "\"number overflow\\n\" 3.5"));
+    CHECK(field.rfind("line 1, column ", 0) == 0);
+}
+
 TEST_CASE("loadScene: files", "[scene]") {
     const std::string missing = tempPath("does_not_exist.json");
     std::filesystem::remove(missing);

@@ -34,8 +34,10 @@ std::string oneLine(std::string s) {
 } // namespace
 
 SceneError::SceneError(std::string file, std::string field, std::string problem)
-    : std::runtime_error(oneLine(file + ": " + field + ": " + problem)), m_file(std::move(file)),
-      m_field(std::move(field)), m_problem(std::move(problem)) {}
+    : std::runtime_error(oneLine(file + ": " + field + ": " + problem)), m_file(oneLine(std::move(file))),
+      m_field(oneLine(std::move(field))), m_problem(oneLine(std::move(problem))) {}
+// (The parts are flattened too, so that what() is always exactly "<file>: <field>: <problem>" of them:
+// a field path can hold a key with a line break in it, found by fuzz_scene_loader.)
 
 template <int D> std::size_t SceneData<D>::frameLimit() const {
     return cameraPath ? cameraPath->size() : std::numeric_limits<std::size_t>::max();
@@ -77,6 +79,7 @@ public:
     }
     std::size_t position = 0;
     std::string message;
+    bool overflow = false;
 
     bool null() override { return value(); }
     bool boolean(bool) override { return value(); }
@@ -107,9 +110,13 @@ public:
         m_levels.pop_back();
         return true;
     }
-    bool parse_error(std::size_t pos, const std::string&, const nlohmann::detail::exception& ex) override {
+    bool parse_error(std::size_t pos, const std::string& lastToken, const nlohmann::detail::exception& ex) override {
         position = pos;
         message = ex.what();
+        // Only the lexer's own overflow (a number token) belongs to a field; "number overflow" may also
+        // be text quoted from a key in a syntax error (found by fuzz_scene_loader).
+        overflow = message.find("number overflow") != std::string::npos && !lastToken.empty() &&
+                   lastToken.find_first_not_of("0123456789+-.eE") == std::string::npos;
         // The failing value has not been counted yet: point at the element it would have been.
         if (!m_levels.empty() && m_levels.back().array) ++m_levels.back().index;
         return false;
@@ -159,7 +166,7 @@ private:
         where = "line " + std::to_string(line) + ", column " + std::to_string(column);
     }
     const std::string path = tracker.path();
-    if (what.find("number overflow") != std::string::npos && !path.empty()) {
+    if (tracker.overflow && !path.empty()) {
         throw SceneError(file, path, "number is not finite in double precision (" + what + ") at " + where);
     }
     throw SceneError(file, where, "invalid JSON: " + what);
