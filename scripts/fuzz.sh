@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Longer libFuzzer runs of rgvc's fuzz targets (tests/fuzz; ctest runs only a 20 s smoke test of each).
+# Longer libFuzzer runs of rgvc's fuzz targets (tests/fuzz; ctest runs only a short smoke test of each:
+# a fixed count of inputs from a fixed seed). These explore freely: a random seed, the kept corpus.
 #
 #   scripts/fuzz.sh [TARGET...]            fuzz each target for SECONDS (default: all targets)
 #   scripts/fuzz.sh repro TARGET FILE...   replay inputs (a crash-*/timeout-* file from artifacts/) once
