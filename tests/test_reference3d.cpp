@@ -335,6 +335,11 @@ TEST_CASE("reference3d: an explicit up vector rolls the frustum", "[reference3d]
     CHECK(show(visible3D(objs, camera({0, 0, 0}, {1, 0, 0}, 60, kInf, 3.0, {0, 0, 1}))) == "10");
     // Looking straight up needs an explicit up.
     CHECK(show(visible3D({sphere({0, 10, 0}, 1)}, camera({0, 0, 0}, {0, 1, 0}, 30, kInf, 1, {0, 0, 1}))) == "1");
+    // Any non-zero up counts, as in the library: a denormal one too (its square underflows to zero; the
+    // reference once read it as "no up" and disagreed with the culler, found by fuzz_culler3d).
+    const double tiny = std::numeric_limits<double>::denorm_min();
+    CHECK(show(visible3D(objs, camera({0, 0, 0}, {1, 0, 0}, 60, kInf, 3.0, {0, 0, tiny}))) == "10");
+    CHECK(show(visible3D(objs, camera({0, 0, 0}, {1, 0, 0}, 60, kInf, 3.0, {0, 0, -tiny}))) == "10");
 }
 
 TEST_CASE("reference3d: mirrored and permuted axes give the same answers", "[reference3d]") {

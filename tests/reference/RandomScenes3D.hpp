@@ -329,7 +329,7 @@ inline std::string toJson(const GridGeometry3& grid, const std::vector<ObjectDes
          ", " + std::to_string(grid.resolution().z) + "] },\n";
     s += "  \"camera\": { \"position\": " + vec(cam.position) + ", \"direction\": " + vec(cam.direction) +
          ", \"fov_deg\": " + num(cam.fovDeg) + ", \"aspect\": " + num(cam.aspect);
-    if (lengthSquared<3>(cam.up) > 0) s += ", \"up\": " + vec(cam.up);
+    if (cam.up.x != 0 || cam.up.y != 0 || cam.up.z != 0) s += ", \"up\": " + vec(cam.up);
     if (std::isfinite(cam.far)) s += ", \"far\": " + num(cam.far);
     s += " },\n  \"objects\": [\n";
     for (std::size_t i = 0; i < objects.size(); ++i) {
