@@ -500,6 +500,8 @@ template <int D> void runMany(const std::string& name, std::uint64_t firstSeed, 
         o.tbvMaxFrames = std::uint32_t(sr::pick(rng, std::vector<int>{256, 16, 4}));
         o.tbvMaxGrowth = sr::pick(rng, std::vector<double>{4.0, 0.5, 2.0, 8.0});
         if (alternateFilled && seed % 2) o.tbvDiscretization = TbvDiscretization::Filled;
+        // The worlds' objects reflect at the grid's faces, so the promise holds: half the seeds make it.
+        o.objectsStayInGrid = sr::chance(rng, 0.5);
         Session<D> session(w, o, tally, fails);
         session.push = push;
         for (int f = 0; f < frames; ++f) session.step();
@@ -731,6 +733,46 @@ TEST_CASE("dynamic: output sensitivity: hidden slow objects cost (almost) no que
               << " with TBVs, " << baseQueries / counted << " without\n";
     CHECK(queries / counted < double(n) / 10);
     fails.check();
+}
+
+TEST_CASE("dynamic: objectsStayInGrid clips TBVs at the grid bounds instead of shortening them", "[dynamics][tbv]") {
+    // A slow object hidden 1.5 voxels from the grid's left side, behind a wall across the grid: without the
+    // promise its TBV must fit inside the grid (validity ~10 frames); with it the TBV reaches past the bound.
+    const GridGeometry2 grid({0, 0}, 1.0, {64, 64});
+    const Camera2 cam{.position = {32.5, 5.5}, .direction = {0, 1}, .fovDeg = 90};
+    struct Run {
+        std::uint64_t renewed = 0, violations = 0, hiddenFrames = 0;
+    };
+    // drift: voxels per frame towards -x (0: the object stays put; it leaves the grid otherwise).
+    auto run = [&](bool promise, double drift) {
+        CullerOptions o;
+        o.objectsStayInGrid = promise;
+        Culler2D c(grid, o);
+        c.addObject({.id = 1, .shape = Box<2>{{0, 20}, {64, 22}}, .isStatic = true});
+        c.addObject({.id = 2, .shape = Ball<2>{{1.5, 50}, 0.5}, .maxSpeed = 0.1});
+        Run out;
+        for (int f = 0; f < 400; ++f) {
+            const Shape<2> now = Ball<2>{{1.5 - drift * f, 50}, 0.5};
+            const CullResult& r = c.cull(cam, [&](ObjectId) { return now; });
+            out.renewed += r.stats.tbvsRenewed;
+            out.violations += r.stats.speedViolations;
+            out.hiddenFrames += r.stats.hiddenObjects == 1;
+            if (drift == 0) CHECK(r.pvs.size() <= 1); // the wall only: the object stays behind it
+        }
+        return out;
+    };
+    const Run fit = run(false, 0), clipped = run(true, 0);
+    std::cout << "[dynamic] object 1.5 voxels from the grid bound, 400 frames: " << fit.renewed
+              << " renewals with TBVs inside the grid, " << clipped.renewed << " with objectsStayInGrid\n";
+    CHECK(fit.renewed >= 25);
+    CHECK(clipped.renewed <= 2);
+    CHECK(fit.hiddenFrames >= 390);
+    CHECK(clipped.hiddenFrames >= 390);
+    CHECK(fit.violations + clipped.violations == 0);
+    // A broken promise (the object drifts out of the grid at its maxSpeed) is reported once the TBV is
+    // renewed; without the promise the TBV keeps it in the grid, and it is re-placed before it leaves.
+    CHECK(run(true, 0.099).violations >= 1);
+    CHECK(run(false, 0.099).violations == 0);
 }
 
 TEST_CASE("dynamic: bookkeeping over 3000 frames with removals, re-additions and maxSpeed 0", "[dynamics][tbv]") {

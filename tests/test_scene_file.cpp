@@ -468,6 +468,42 @@ TEST_CASE("motion: a circle bounces off the grid bounds", "[scene]") {
     CHECK_THROWS_AS(again.translation(99), std::out_of_range);
 }
 
+TEST_CASE("motionStaysInGrid: true exactly when reflected steps land inside (objectsStayInGrid)", "[scene]") {
+    // Grid 10 x 10. A box of width w and speed v stays in when 2 v <= 10 - w.
+    CHECK(motionStaysInGrid(boxWorld(R"([{ "id": 1, "shape": "circle", "center": [5, 5], "radius": 1, "velocity": [1.5, -2] }])")));
+    CHECK(motionStaysInGrid(boxWorld(R"([{ "id": 1, "shape": "box", "min": [1, 1], "max": [7, 2], "velocity": [1.9, 0] }])")));
+    CHECK_FALSE(motionStaysInGrid(boxWorld(R"([{ "id": 1, "shape": "box", "min": [1, 1], "max": [7, 2], "velocity": [2.1, 0] }])")));
+    // As wide as the grid but not moving on that axis: fine.
+    CHECK(motionStaysInGrid(boxWorld(R"([{ "id": 1, "shape": "box", "min": [0, 1], "max": [10, 2], "velocity": [0, 0.5] },
+                                         { "id": 2, "shape": "box", "min": [1, 1], "max": [2, 2], "velocity": [0.1, 0] }])")));
+    CHECK_FALSE(motionStaysInGrid(boxWorld(R"([{ "id": 1, "shape": "box", "min": [0, 1], "max": [10, 2], "velocity": [0.5, 0] }])")));
+    // Static objects may be any size.
+    CHECK(motionStaysInGrid(boxWorld(R"([{ "id": 1, "shape": "box", "min": [-5, -5], "max": [15, 15] }])")));
+    CHECK(sceneCullerOptions(boxWorld(R"([{ "id": 1, "shape": "circle", "center": [5, 5], "radius": 1, "velocity": [1, 0] }])")).objectsStayInGrid);
+    // What it promises, simulated: random boxes and speeds within the bound, every one that starts inside
+    // the grid stays inside for 2,000 frames.
+    std::mt19937_64 rng(17);
+    for (int trial = 0; trial < 50; ++trial) {
+        std::uniform_real_distribution<double> u(0, 1);
+        const double w = 9.9 * u(rng), h = 9.9 * u(rng);
+        const double x = (10 - w) * u(rng), y = (10 - h) * u(rng);
+        const double vx = (10 - w) / 2 * u(rng) * (u(rng) < 0.5 ? -1 : 1), vy = (10 - h) / 2 * u(rng);
+        json o = {{"id", 1}, {"shape", "box"}, {"min", {x, y}}, {"max", {x + w, y + h}}, {"velocity", {vx, vy}}};
+        const SceneData2 d = boxWorld(json::array({o}).dump());
+        INFO("trial " << trial << ": " << o.dump());
+        REQUIRE(motionStaysInGrid(d) == (2 * std::abs(vx) <= 10 - w - 1e-8 && 2 * vy <= 10 - h - 1e-8));
+        if (!motionStaysInGrid(d)) continue;
+        SceneSimulator2 sim(d);
+        bool inside = true;
+        for (int f = 0; f < 2000 && inside; ++f) {
+            sim.step();
+            const Box<2> b = boundsOf<2>(sim.shape(1));
+            inside = b.min.x >= 0 && b.min.y >= 0 && b.max.x <= 10 && b.max.y <= 10;
+        }
+        CHECK(inside);
+    }
+}
+
 TEST_CASE("motion: objects starting outside the grid come back and are never stuck", "[scene]") {
     SceneData2 d = boxWorld(R"([
       { "id": 1, "shape": "box", "min": [12, 4], "max": [13, 5], "velocity": [1, 0] },

@@ -13,8 +13,9 @@
 // its zone) is hidden from every camera position in front of it. 2D: 1024x1024 voxels, wall at
 // y 400..408, hidden zone y >= 420. 3D: 256x128x256 voxels, wall at z 96..100, hidden zone z >= 108.
 // Three cullers see the same frames, interleaved frame by frame: TBVs with boundary discretization (the
-// defaults), TBVs filled, and the baseline temporalBoundingVolumes = false (every moving object re-placed
-// every frame through the same query). Per hidden count and variant: median and p90 of CullStats::cullMs
+// defaults, plus objectsStayInGrid: the zones are inside the grid), the --second variant (TBVs filled,
+// 3D shells, or boundary TBVs without objectsStayInGrid), and the baseline temporalBoundingVolumes = false
+// (every moving object re-placed every frame through the same query). Per hidden count and variant: median and p90 of CullStats::cullMs
 // (wall time, placement queries and T updates included) and of this thread's CPU time for the same call,
 // mean |PVS|, placement queries, TBVs created / renewed / revealed and grid writes per frame, and the
 // ratio median(largest count) / median(smallest count), the target being < 2x. The first
@@ -37,7 +38,8 @@
 //
 //   rgvc_bench_dynamic [--scenario hidden2d|hidden3d|soak|all] [--frames N] [--repeats R] [--seed S]
 //                      [--counts 1000,10000,100000] [--warmup N] [--check-frames K] [--tbv-max-growth G]
-//                      [--second filled|shell]   (the second TBV variant: filled regions or, 3D, per-voxel shells)
+//                      [--second filled|shell|unconfined]   (the second TBV variant: filled regions, (3D) per-voxel
+//                      shells, or boundary TBVs without CullerOptions::objectsStayInGrid)
 //                      [--soak-frames N] [--churn C]
 // --frames sets the frames of the hidden scenarios (default 300 in 2D, 150 in 3D), or of the soak when it
 // runs alone.
@@ -332,7 +334,7 @@ struct Settings {
     std::vector<int> counts{1000, 10000, 100000};
     double growth = CullerOptions{}.tbvMaxGrowth;
     std::uint64_t seed = 2004;
-    bool shellInsteadOfFilled = false; ///< --second shell: the second variant is TbvDiscretization::Shell
+    std::string second = "filled";     ///< --second: filled, shell or unconfined (see the top of the file)
 };
 
 template <int D> std::uint64_t runHidden(const char* title, const Settings& cfg,
@@ -340,12 +342,18 @@ template <int D> std::uint64_t runHidden(const char* title, const Settings& cfg,
                                          const std::function<Camera<D>(int)>& cameraAt, std::size_t chunk) {
     CullerOptions boundary;
     boundary.tbvMaxGrowth = cfg.growth;
+    // Every mover reflects inside its zone, and the zones are inside the grid: the promise holds.
+    boundary.objectsStayInGrid = true;
     CullerOptions filled = boundary;
-    filled.tbvDiscretization = cfg.shellInsteadOfFilled ? TbvDiscretization::Shell : TbvDiscretization::Filled;
+    if (cfg.second == "unconfined") filled.objectsStayInGrid = false;
+    else filled.tbvDiscretization = cfg.second == "shell" ? TbvDiscretization::Shell : TbvDiscretization::Filled;
     CullerOptions baseline;
     baseline.temporalBoundingVolumes = false;
     const std::vector<Variant> variants{{"TBV boundary", boundary},
-                                        {cfg.shellInsteadOfFilled ? "TBV shell" : "TBV filled", filled},
+                                        {cfg.second == "shell"        ? "TBV shell"
+                                         : cfg.second == "unconfined" ? "TBV unconfined"
+                                                                      : "TBV filled",
+                                         filled},
                                         {"re-insert all", baseline}};
     const std::size_t nv = variants.size();
     const int warmup = std::min(cfg.warmup, cfg.frames - 1);
@@ -596,7 +604,7 @@ int main(int argc, char** argv) {
         bool known = true;
         if (a == "--scenario") scenario = v;
         else if (a == "--tbv-max-growth") cfg.growth = std::atof(v);
-        else if (a == "--second") cfg.shellInsteadOfFilled = std::string(v) == "shell";
+        else if (a == "--second") cfg.second = v;
         else if (a == "--seed") cfg.seed = std::strtoull(v, nullptr, 10);
         else if (a == "--counts") {
             cfg.counts.clear();
@@ -611,13 +619,17 @@ int main(int argc, char** argv) {
         if (!known) {
             std::fprintf(stderr, "usage: rgvc_bench_dynamic [--scenario hidden2d|hidden3d|soak|all] [--frames N] [--repeats R] "
                                  "[--seed S] [--counts 1000,10000,100000] [--warmup N] [--check-frames K] "
-                                 "[--tbv-max-growth G] [--second filled|shell] [--soak-frames N] [--churn C]\n");
+                                 "[--tbv-max-growth G] [--second filled|shell|unconfined] [--soak-frames N] [--churn C]\n");
             return a == "--help" || a == "-h" ? 0 : 2;
         }
         ++i;
     }
     if (scenario != "hidden2d" && scenario != "hidden3d" && scenario != "soak" && scenario != "all") {
         std::fprintf(stderr, "rgvc_bench_dynamic: unknown scenario '%s'\n", scenario.c_str());
+        return 2;
+    }
+    if (cfg.second != "filled" && cfg.second != "shell" && cfg.second != "unconfined") {
+        std::fprintf(stderr, "rgvc_bench_dynamic: --second takes filled, shell or unconfined, got '%s'\n", cfg.second.c_str());
         return 2;
     }
     cfg.frames = std::max(2, cfg.frames), cfg.repeats = std::max(1, cfg.repeats);

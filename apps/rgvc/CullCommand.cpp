@@ -81,7 +81,7 @@ struct CullArgs {
     std::size_t frames = 1;
     bool dumpObjects = false;
     bool help = false;
-    CullerOptions options;
+    CullerOptions options; // the flags; objectsStayInGrid comes from the scene (sceneCullerOptions)
 };
 
 std::size_t parseFrames(const std::string& text) {
@@ -181,7 +181,9 @@ template <int D> int runFrames(const Scene& scene, const SceneData<D>& data, con
     const Clock::time_point setupStart = Clock::now();
     std::optional<Culler<D>> culler;
     try {
-        culler.emplace(data.grid, args.options);
+        CullerOptions options = args.options;
+        options.objectsStayInGrid = motionStaysInGrid(data);
+        culler.emplace(data.grid, options);
     } catch (const InvalidInput& e) {
         rethrowAsScene(scene, e.field(), e);
     } catch (const std::bad_alloc&) {

@@ -149,7 +149,7 @@ int demo(const DemoArgs& args) {
     requireFrames(scene, std::size_t(args.frames));
     const std::size_t lastFrame = std::size_t(args.frames) - 1;
     const Camera2 camera = data->cameraAt(lastFrame);
-    Culler2D culler(data->grid);
+    Culler2D culler(data->grid, sceneCullerOptions(*data));
     std::vector<ObjectDesc<2>> objects;
     objects.reserve(data->objects.size());
     std::size_t staticCount = 0;

@@ -1,6 +1,8 @@
 // Scene motion: the reflection rule documented in SceneMotion.hpp.
 #include "SceneMotion.hpp"
 
+#include <cmath>
+
 #include <stdexcept>
 #include <string>
 
@@ -61,6 +63,23 @@ template <int D> std::size_t SceneSimulator<D>::indexOf(ObjectId id) const {
     if (it == m_index.end()) throw std::out_of_range("SceneSimulator: unknown object id " + std::to_string(id));
     return it->second;
 }
+
+template <int D> bool motionStaysInGrid(const SceneData<D>& scene) {
+    const GridGeometry<D>& g = scene.grid;
+    for (const SceneObject<D>& o : scene.objects) {
+        if (o.isStatic) continue;
+        const Box<D> b = boundsOf<D>(o.shape);
+        for (int a = 0; a < D; ++a) {
+            if (o.velocity[a] == 0) continue; // never moves on this axis
+            const double extent = g.voxelSize() * g.resolution()[a];
+            const double freeRoom = extent - (b.max[a] - b.min[a]);
+            if (!(2 * std::abs(o.velocity[a]) <= freeRoom - 1e-9 * extent)) return false;
+        }
+    }
+    return true;
+}
+template bool motionStaysInGrid<2>(const SceneData<2>&);
+template bool motionStaysInGrid<3>(const SceneData<3>&);
 
 template class SceneSimulator<2>;
 template class SceneSimulator<3>;

@@ -40,6 +40,22 @@ namespace rgvc {
 /// @return the step to add to the translation (the possibly flipped v).
 double reflectStep(double lo, double hi, double gridLo, double gridHi, double& v);
 
+/// Whether the rule keeps every moving object that is entirely inside the grid inside it for good, which
+/// is what CullerOptions::objectsStayInGrid asks the application to promise. True when on every axis
+/// 2 |v[a]| <= (grid extent - box extent) for every moving object: a step reflects only when the box is
+/// within |v| of the bound it approaches, so the opposite bound is more than (E - w) - |v| >= |v| away and
+/// the reflected step lands inside. (Wider objects or faster ones can overshoot the opposite bound for a
+/// frame; scenes with such objects get no promise.) A margin of 1e-9 of the extent covers rounding.
+template <int D> bool motionStaysInGrid(const SceneData<D>& scene);
+
+/// The culler options `rgvc cull` and `rgvc demo` use for a scene: the defaults, plus objectsStayInGrid
+/// when motionStaysInGrid says the scene's motion keeps the promise.
+template <int D> CullerOptions sceneCullerOptions(const SceneData<D>& scene) {
+    CullerOptions o;
+    o.objectsStayInGrid = motionStaysInGrid(scene);
+    return o;
+}
+
 /// Steps every object of a scene by the rule above, frame after frame.
 template <int D> class SceneSimulator {
 public:

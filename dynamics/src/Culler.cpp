@@ -307,15 +307,19 @@ template <int D> struct Culler<D>::Impl {
 
     /// Builds the TBV of an object placed at p now: a disc (2D) or cube (3D) around its bounding ball,
     /// grown by maxSpeed per frame of validity. The validity is the longest that keeps the region inside
-    /// the grid (so the object stays in it) and, for boundary TBVs, clear of the camera's voxel (§4.1),
+    /// the grid (so the object stays in it; not needed under objectsStayInGrid) and, for boundary TBVs,
+    /// clear of the camera's voxel (§4.1),
     /// capped by tbvMaxFrames and tbvMaxGrowth. False if not even one frame fits.
     bool buildTbv(const Record& r, const Placement& p, bool cameraKnown, const IVec<D>& camera, TbvRegion<D>& region,
                   std::uint64_t& expiry) const {
         if (p.outsideGrid) return false;
         const Ball<D> b = boundingBall<D>(p.local);
         double room = INFINITY;
-        for (int a = 0; a < D; ++a)
-            room = std::min(room, std::min(b.center[a], double(grid.resolution()[a]) - b.center[a]));
+        // Without the application's promise the object could leave the grid, where T cannot see it: the
+        // region must fit inside. With it, T clips the region at the bounds (CullerOptions::objectsStayInGrid).
+        if (!options.objectsStayInGrid)
+            for (int a = 0; a < D; ++a)
+                room = std::min(room, std::min(b.center[a], double(grid.resolution()[a]) - b.center[a]));
         // Strictly clear of the camera voxel: tbvTouches() must say no, with its slack and some rounding.
         if (cameraKnown && tbvBoundaryOnly(options.tbvDiscretization))
             room = std::min(room, tbvGap(b.center, camera) - 4 * kConservativeSlack);
@@ -339,6 +343,9 @@ template <int D> struct Culler<D>::Impl {
         expiry = frameIndex + std::uint64_t(frames) + 1; // covers this frame and the next `frames`
         return true;
     }
+
+    /// A hidden object found (partly) outside the grid although the application promised it stays in.
+    bool brokePromise(const Placement& p) const { return options.objectsStayInGrid && p.outsideGrid; }
 
     /// [Voxels per frame] how far the object may move in one frame, rounded up a little.
     double stepOf(const Record& r) const { return r.maxSpeed / grid.voxelSize() * (1 + 1e-12); }
@@ -393,7 +400,7 @@ template <int D> struct Culler<D>::Impl {
             enter(slot, State::Parked);
             return false;
         }
-        if (!ballInside(boundingBall<D>(p->local), old)) ++st.speedViolations;
+        if (!ballInside(boundingBall<D>(p->local), old) || brokePromise(*p)) ++st.speedViolations;
         attachTracked(slot, *p);
         return true;
     }
@@ -490,7 +497,7 @@ template <int D> struct Culler<D>::Impl {
                 // The TBV covered up to the frame before this one: one more step is allowed.
                 TbvRegion<D> grown = old;
                 grown.radius += stepOf(r);
-                if (!ballInside(boundingBall<D>(p->local), grown)) ++st.speedViolations;
+                if (!ballInside(boundingBall<D>(p->local), grown) || brokePromise(*p)) ++st.speedViolations;
                 TbvRegion<D> region;
                 std::uint64_t expiry = 0;
                 if (r.growthLevel > 0) --r.growthLevel; // unrevealed for a whole validity: grow larger again
