@@ -230,7 +230,18 @@ public:
             if (tbvCovers2D(m_regions[s].region, m_res, m_regions[s].mode, v)) out.push_back(s);
         });
     }
-    bool holdsAt(const IVec2& v) const { return m_live != 0 && m_counts[key(v.x, v.y)] != 0; }
+    /// Whether some TBV holds voxel v (exact: a saturated count is settled by the tile's lists).
+    bool holdsAt(const IVec2& v) const {
+        if (m_live == 0) return false;
+        const std::uint8_t c = m_counts[key(v.x, v.y)];
+        if (c != kSticky) return c != 0;
+        bool any = false;
+        const std::size_t tile = std::size_t(v.y >> kTileShift) * std::size_t(m_tiles.x) + std::size_t(v.x >> kTileShift);
+        m_tileLists.forEach(m_tileHeads[tile], [&](ObjectSlot s) {
+            any = any || tbvCovers2D(m_regions[s].region, m_res, m_regions[s].mode, v);
+        });
+        return any;
+    }
 
     std::size_t liveRegions() const { return m_live; }
     bool allocated() const { return !m_counts.empty(); }
