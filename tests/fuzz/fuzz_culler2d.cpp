@@ -14,7 +14,9 @@
 //   - addObject accepting a duplicate id, update/remove accepting an unknown one, or rejecting a known one
 //     for a reason other than the shape.
 // With RGVC_FUZZ_REFERENCE=1 in the environment, tame frames are also checked against the exact reference
-// (rgvc::reference::exactVisible2D): a visible object missing from the PVS is a bug.
+// (rgvc::reference::exactVisible2D): a visible object missing from the PVS is a bug. With RGVC_FUZZ_TRACE=1
+// every operation is printed, every cull with its scene file and PVS, and every refusal with its message
+// (refusals re-cull the last camera).
 //
 // Build: -DRGVC_BUILD_FUZZERS=ON -DCMAKE_CXX_COMPILER=clang++; run: scripts/fuzz.sh culler2d.
 #include "ExactVisibility2D.hpp"
@@ -205,6 +207,21 @@ void checkAgainstReference(const Culler2D& culler, const Model& model, const Cam
     }
 }
 
+// RGVC_FUZZ_TRACE=1: every cull prints the scene as it stands (a scene file) and its PVS, to replay a
+// finding step by step.
+const bool kTrace = std::getenv("RGVC_FUZZ_TRACE") != nullptr;
+
+void trace(const Culler2D& culler, const Model& model, const Camera2& cam, const CullResult& r) {
+    std::vector<ObjectDesc<2>> descs;
+    for (const auto& [id, s] : model.objects) descs.push_back({id, s, true, 0});
+    std::string pvs;
+    for (ObjectId id : r.pvs) pvs += (pvs.empty() ? "" : " ") + std::to_string(id);
+    std::fprintf(stderr, "cull: PVS [%s], outside grid %zu, voxels visited %zu, hidden objects %zu, TBVs created %zu revealed %zu\n%s\n",
+                 pvs.c_str(), std::size_t(r.stats.objectsOutsideGrid), std::size_t(r.stats.voxelsVisited),
+                 std::size_t(r.stats.hiddenObjects), std::size_t(r.stats.tbvsCreated), std::size_t(r.stats.tbvsRevealed),
+                 reference::toJson(culler.grid(), descs, cam).c_str());
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -245,6 +262,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     bool lastValid = false;
 
     auto afterRefusal = [&](const char* what) {
+        if (kTrace) std::fprintf(stderr, "refused %s (then the last camera culls again: %s)\n", what, lastValid ? "yes" : "no");
         if (culler->objectCount() != model.objects.size()) bug(std::string("refused ") + what + " changed the object count");
         for (const auto& [id, s] : model.objects)
             if (!culler->hasObject(id)) bug(std::string("refused ") + what + " lost object " + std::to_string(id));
@@ -264,11 +282,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             const bool tame = in.takeTame();
             try {
                 culler->addObject(o);
-            } catch (const InvalidInput&) {
+            } catch (const InvalidInput& e) {
+                if (kTrace) std::fprintf(stderr, "add %llu refused: %s\n", (unsigned long long)id, e.what());
                 afterRefusal("addObject");
                 continue;
             }
             if (known) bug("addObject accepted duplicate id " + std::to_string(id));
+            if (kTrace) std::fprintf(stderr, "add %llu static %d max_speed %g\n", (unsigned long long)id, int(o.isStatic), o.maxSpeed);
             Shape<2> normalised = o.shape;
             validateShape<2>(normalised, "model");
             model.objects[id] = normalised;
@@ -286,12 +306,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             }
             try {
                 culler->updateObject(id, s);
-            } catch (const InvalidInput&) {
+            } catch (const InvalidInput& e) {
+                if (kTrace) std::fprintf(stderr, "update %llu refused: %s\n", (unsigned long long)id, e.what());
                 if (known && valid) bug("updateObject refused a known id with a valid shape");
                 afterRefusal("updateObject");
                 continue;
             }
             if (!known) bug("updateObject accepted unknown id " + std::to_string(id));
+            if (kTrace) std::fprintf(stderr, "update %llu\n", (unsigned long long)id);
             if (!valid) bug("updateObject accepted a shape validateShape refuses");
             model.objects[id] = normalised;
             model.tame = model.tame && tame;
@@ -305,6 +327,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 continue;
             }
             if (!known) bug("removeObject accepted unknown id " + std::to_string(id));
+            if (kTrace) std::fprintf(stderr, "remove %llu\n", (unsigned long long)id);
             model.objects.erase(id);
             lastValid = false;
         } else { // cull
@@ -312,12 +335,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             const bool tame = in.takeTame();
             try {
                 const CullResult& r = culler->cull(cam);
+                if (kTrace) trace(*culler, model, cam, r);
                 checkResult(*culler, model, r);
                 if (kReference && tameGrid && model.tame && tame) checkAgainstReference(*culler, model, cam, r);
                 lastCamera = cam;
                 lastPvs = r.pvs;
                 lastValid = true;
-            } catch (const InvalidInput&) {
+            } catch (const InvalidInput& e) {
+                if (kTrace) std::fprintf(stderr, "cull refused: %s\n%s\n", e.what(), reference::toJson(culler->grid(), {}, cam).c_str());
                 afterRefusal("cull");
             }
         }
