@@ -128,7 +128,11 @@ public:
                 e2[b2] = 1;
                 const IVec3 oFace = ea * (sgn * k);
                 const std::int64_t step = stride[b1];
-                const bool testCaps = options.occlusion && m_caps.prepareFace(face, lo, hi);
+                // The masks cover the margins too: recordMargins tests the voxels there for H (see there).
+                const IVec2 mLo{std::max({lo.x - kMargin, -k, -c[b1]}), std::max({lo.y - kMargin, -k, -c[b2]})};
+                const IVec2 mHi{std::min({hi.x + kMargin, k, res[b1] - 1 - c[b1]}),
+                                std::min({hi.y + kMargin, k, res[b2] - 1 - c[b2]})};
+                const bool testCaps = options.occlusion && m_caps.prepareFace(face, mLo, mHi);
                 if (options.occlusion) m_spans.assign(std::size_t(hi.y - lo.y + 1), IVec2(1, 0));
                 for (std::int32_t v = lo.y; v <= hi.y; ++v) {
                     const IVec3 oRow = oFace + e2 * v;
@@ -155,7 +159,7 @@ public:
                                    face, masks ? masks + (u - maskU0) : nullptr, options, stamp, onVoxel, inGrid, open, occluded,
                                    opaque);
                 }
-                if (options.occlusion) recordMargins(grid, storage, c, k, oFace, e1, e2, b1, b2, lo, hi, step);
+                if (options.occlusion) recordMargins(grid, storage, c, k, face, oFace, e1, e2, b1, b2, lo, hi, step, stamp, testCaps);
             }
             stats.voxelsVisited += inGrid;
             stats.voxelsOccluded += occluded;
@@ -211,21 +215,59 @@ private:
         open += std::uint64_t(n - nHidden - nOpaque);
     }
 
-    /// Opaque voxels next to the visited part of a face are blockers too: the footprint of a later voxel near
+    /// Blocked voxels next to the visited part of a face are blockers too: the footprint of a later voxel near
     /// the frustum's side reaches a few voxels past it. They are read, not visited: for every row v (the
     /// visited rows and kMargin beyond), the span of rows v-kMargin..v+kMargin grown by kMargin, minus v's
-    /// own visited span. Without the rows around a slanted edge (a view turned by a fraction of a degree), a cap has holes
-    /// all along the frustum's edges, the voxels there stay out of H shell after shell, and behind a wall
-    /// spanning the whole view the traversal never terminates (found by rgvc_bench_dynamic: a 256 x 128 wall
-    /// leaked 50,000 voxels with the view turned by 0.6 degrees).
-    void recordMargins(const GridGeometry3& grid, const Storage& storage, const IVec3& c, std::int32_t k,
+    /// own visited span. Without the rows around a slanted edge (a view turned by a fraction of a degree), a
+    /// cap has holes all along the frustum's edges, the voxels there stay out of H shell after shell, and
+    /// behind a wall spanning the whole view the traversal never terminates (found by rgvc_bench_dynamic: a
+    /// 256 x 128 wall leaked 50,000 voxels with the view turned by 0.6 degrees).
+    ///
+    /// Opaque voxels alone are not enough: behind a wall the caps are made of occluded voxels, and the margin
+    /// of a shell behind it holds no opaque voxel, so a footprint that reaches past the visited rows found
+    /// an unrecorded (open) voxel there, and H eroded from the frustum's sides shell after shell until a cap
+    /// at k - 2^i happened to fall on the wall's shells (a 2 degree turn left ~25,000 voxels behind a wall
+    /// out of H, and the traversal ran on through 1.6 M voxels). So margin voxels are also tested against
+    /// the caps, exactly as visited ones (the test is sound for any voxel of the shell), and recorded when
+    /// hidden; they are not marked in H (not visited).
+    ///
+    /// What is read and tested is limited to where a footprint could come out all blocked: a footprint that
+    /// reaches into the margin beside a row also holds the visited voxel at the end of some row it spans, so
+    /// a side of a row is read only if the end of some row within kMargin on that side is blocked; and the
+    /// cap test walks outwards from the span and stops at the first voxel that is not blocked. Both only
+    /// leave voxels unrecorded, which can only leave voxels out of H.
+    void recordMargins(const GridGeometry3& grid, const Storage& storage, const IVec3& c, std::int32_t k, int face,
                        const IVec3& oFace, const IVec3& e1, const IVec3& e2, int b1, int b2, const IVec2& lo,
-                       const IVec2& hi, std::int64_t step) {
+                       const IVec2& hi, std::int64_t step, std::uint32_t stamp, bool testCaps) {
         const IVec3 res = grid.resolution();
-        // Four, not two: with the view turned by a degree, the footprints of voxels at the frustum's corners
-        // reach three to four voxels past the visited rows of earlier shells (measured on the leaking wall:
-        // two rows fixed a 0.6 degree turn, four a 1.1 degree one; larger turns still leak, README).
-        constexpr std::int32_t kMargin = 4;
+        // Per visited row: bit 0 when its first voxel is blocked, bit 1 when its last one is. The first and
+        // last rows with a span also get bit 2 when any of their voxels is blocked (for the rows beyond them).
+        m_ends.assign(m_spans.size(), 0);
+        std::int32_t vFirst = hi.y + 1, vLast = lo.y - 1;
+        for (std::int32_t v = lo.y; v <= hi.y; ++v) {
+            const IVec2 sp = m_spans[std::size_t(v - lo.y)];
+            if (sp.x > sp.y) continue;
+            vFirst = std::min(vFirst, v);
+            vLast = v;
+            const std::int64_t rowKey = std::int64_t(grid.linearIndex(c + oFace + e2 * v));
+            auto blocked = [&](std::int32_t u) {
+                const VoxelKey key(rowKey + u * step);
+                return storage.opaque(key) || storage.occluded(key, stamp);
+            };
+            m_ends[std::size_t(v - lo.y)] = std::uint8_t(int(blocked(sp.x)) | int(blocked(sp.y)) << 1);
+        }
+        for (std::int32_t v : {vFirst, vLast}) {
+            if (v > vLast) break; // no visited row
+            const IVec2 sp = m_spans[std::size_t(v - lo.y)];
+            const std::int64_t rowKey = std::int64_t(grid.linearIndex(c + oFace + e2 * v));
+            for (std::int32_t u = sp.x; u <= sp.y; ++u) {
+                const VoxelKey key(rowKey + u * step);
+                if (storage.opaque(key) || storage.occluded(key, stamp)) {
+                    m_ends[std::size_t(v - lo.y)] |= 4;
+                    break;
+                }
+            }
+        }
         const std::int32_t vMin = std::max({lo.y - kMargin, -k, -c[b2]});
         const std::int32_t vMax = std::min({hi.y + kMargin, k, res[b2] - 1 - c[b2]});
         const std::int32_t uMinFace = std::max(-k, -c[b1]), uMaxFace = std::min(k, res[b1] - 1 - c[b1]);
@@ -234,24 +276,45 @@ private:
         };
         for (std::int32_t v = vMin; v <= vMax; ++v) {
             std::int32_t from = std::numeric_limits<std::int32_t>::max(), to = std::numeric_limits<std::int32_t>::min();
+            int ends = 0;
             for (std::int32_t w = v - kMargin; w <= v + kMargin; ++w) {
                 const IVec2 sp = spanOf(w);
                 if (sp.x > sp.y) continue;
                 from = std::min(from, sp.x - kMargin);
                 to = std::max(to, sp.y + kMargin);
+                ends |= m_ends[std::size_t(w - lo.y)];
             }
             from = std::max(from, uMinFace);
             to = std::min(to, uMaxFace);
             if (from > to) continue;
             const IVec2 own = spanOf(v);
             const IVec3 oRow = oFace + e2 * v;
+            const ShellCaps3D::CapMask* masks = testCaps && ends != 0 ? m_caps.maskRow(v) : nullptr;
+            const std::int32_t maskU0 = m_caps.maskU0();
             const std::int64_t rowKey = std::int64_t(grid.linearIndex(c + oRow));
-            for (std::int32_t u = from; u <= to; ++u) {
-                if (u >= own.x && u <= own.y) {
-                    u = own.y; // visited: recorded by visitChunk
-                    continue;
-                }
-                if (storage.opaque(VoxelKey(rowKey + u * step))) m_caps.addBlocked(oRow + e1 * u, k);
+            // Records margin voxel u if it is blocked, testing it against the caps while `chain` holds; the
+            // chain ends at the first voxel that is not blocked.
+            auto record = [&](std::int32_t u, bool& chain) {
+                const IVec3 o = oRow + e1 * u;
+                bool blocked = storage.opaque(VoxelKey(rowKey + u * step));
+                if (!blocked && chain && masks != nullptr && masks[u - maskU0] != 0)
+                    blocked = m_caps.hiddenByCaps(o, face, masks[u - maskU0]);
+                if (blocked) m_caps.addBlocked(o, k);
+                chain = chain && blocked;
+            };
+            if (own.x > own.y) { // beyond the first or last visited row
+                if (ends != 0)
+                    for (std::int32_t u = from; u <= to; ++u) {
+                        bool chain = (ends & 4) != 0;
+                        record(u, chain);
+                    }
+            } else {
+                bool chain = (ends & 1) != 0;
+                if (chain)
+                    for (std::int32_t u = own.x - 1; u >= from; --u) record(u, chain);
+                chain = (ends & 2) != 0;
+                if (chain)
+                    for (std::int32_t u = own.y + 1; u <= to; ++u) record(u, chain);
             }
             // Where the margin reaches the square's edge it continues on the neighbouring face (same shell,
             // one and two voxels nearer along this face's axis), which the frustum may not reach at all.
@@ -336,8 +399,15 @@ private:
         return true;
     }
 
+    // Voxels around the visited rows that recordMargins reads (and tests against the caps). Measured on a
+    // 256 x 128 wall across the whole view (test_culler3d "a full wall hides everything behind it"): with
+    // occluded margin voxels recorded, 4 still left up to 87 voxels behind the wall out of H at a 10 degree
+    // turn, 5 left 4, 6 none up to 10 degrees of yaw and pitch.
+    static constexpr std::int32_t kMargin = 6;
+
     ShellCaps3D m_caps;          // this frame's caps (reused across frames)
     std::vector<IVec2> m_spans;  // visited span of each row of the current face ((1, 0): none)
+    std::vector<std::uint8_t> m_ends; // recordMargins' scratch: which ends of each visited row are blocked
 };
 
 } // namespace rgvc

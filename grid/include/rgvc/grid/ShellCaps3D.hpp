@@ -28,8 +28,9 @@
 //
 // Tables. A cap is built from the blocked voxels the traversal visited (addBlocked), over their bounding
 // rectangle per face: the test needs a footprint inside it, so nothing outside is ever read. Voxels the
-// traversal did not visit (outside the frustum) count as not blocked, which can only leave voxels out of
-// H. A voxel on a cube edge lies on the squares of two or three faces and is entered in each.
+// traversal did not record count as not blocked, which can only leave voxels out of H; it records the
+// opaque voxels of a margin around the visited rows and those there that the caps hide (recordMargins),
+// as footprints near the frustum's sides reach past the visited rows. A voxel on a cube edge lies on the squares of two or three faces and is entered in each.
 //
 // Where to test: most voxels cannot be hidden by any cap, and the test is skipped for them.
 // (1) A footprint is at least two voxels wide on each axis: the range of an axis is [t o_b - 1, t o_b + 1]
@@ -170,7 +171,9 @@ public:
     /// Shortcut: when q's footprint on shell k-1 holds no blocked voxel at all, the beam passes through
     /// open space just in front of q, and the farther caps are not tried (skipping a cap can only leave a
     /// voxel out of H, never put one in).
-    bool hiddenByCaps(const IVec3& offset, int ownFace, CapMask caps) const {
+    /// Always inlined: with a second caller (FrustumTraversal3D::recordMargins) GCC stops inlining it into
+    /// the visit loop, the hot caller.
+    [[gnu::always_inline]] bool hiddenByCaps(const IVec3& offset, int ownFace, CapMask caps) const {
         const Offset o{offset.x, offset.y, offset.z};
         for (unsigned m = caps; m != 0; m &= m - 1) {
             const int i = std::countr_zero(m);
