@@ -22,10 +22,10 @@
 //
 //   rgvc_bench3d [--scenario paper50|paper100|large|accuracy|all] [--frames N] [--repeats R] [--seed S]
 //                [--accuracy-frames N] [--reference-grid N] [--reference-targets N] [--spheres N]
-//                [--large-spheres N] [--tbv boundary|shell|filled|off]
+//                [--large-spheres N] [--tbv boundary|shell|filled|off] [--tbv-max-growth G]
 //
 // --tbv picks how the cullers hold hidden moving spheres (CullerOptions::tbvDiscretization; off: no TBVs,
-// every sphere stays in O and I). The spheres are moved with updateObject (push): a hidden sphere whose
+// every sphere stays in O and I); --tbv-max-growth sets CullerOptions::tbvMaxGrowth (0: the default). The spheres are moved with updateObject (push): a hidden sphere whose
 // new placement stays inside its TBV costs O(1).
 #include "rgvc/dynamics/Culler.hpp"
 
@@ -308,11 +308,19 @@ int main(int argc, char** argv) {
                 return 2;
             }
         }
+        else if (a == "--tbv-max-growth") {
+            const double g = std::atof(need("--tbv-max-growth").c_str());
+            if (!(g >= 0) || !std::isfinite(g)) {
+                std::fprintf(stderr, "rgvc_bench3d: --tbv-max-growth needs a finite number >= 0 (0: the default)\n");
+                return 2;
+            }
+            for (Variant& v : kVariantList) v.options.tbvMaxGrowth = g;
+        }
         else {
             std::fprintf(stderr,
                          "usage: rgvc_bench3d [--scenario paper50|paper100|large|accuracy|all] [--frames N] [--repeats R] "
                          "[--accuracy-frames N] [--reference-grid N] [--reference-targets N] [--spheres N] [--large-spheres N] "
-                         "[--seed S] [--tbv boundary|shell|filled|off]\n");
+                         "[--seed S] [--tbv boundary|shell|filled|off] [--tbv-max-growth G]\n");
             return a == "--help" || a == "-h" ? 0 : 2;
         }
     }

@@ -364,7 +364,7 @@ template <int D> std::uint64_t runHidden(const char* title, const Settings& cfg,
     std::printf("\n== %s: grid %s, %zu static wall boxes, %d visible movers, hidden movers %s; %d frames (first %d "
                 "skipped) x %d repeats, tbvMaxGrowth %g ==\n",
                 title, grid.c_str(), s0.statics, kVisibleMovers, counts.c_str(), cfg.frames, warmup, cfg.repeats,
-                cfg.growth > 0 ? cfg.growth : (D == 2 ? 32.0 : 4.0));
+                cfg.growth > 0 ? cfg.growth : (D == 2 ? 32.0 : 8.0));
     std::fflush(stdout);
     std::uint64_t failures = 0;
     std::vector<std::vector<Tally>> tallies(cfg.counts.size(), std::vector<Tally>(nv));

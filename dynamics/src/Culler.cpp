@@ -162,7 +162,7 @@ template <int D> struct Culler<D>::Impl {
 
     Impl(const GridGeometry<D>& g, const CullerOptions& o)
         : grid(g), options(o), storage(g), tbvs(g.resolution()), expiring(std::size_t(o.tbvMaxFrames) + 2) {
-        if (options.tbvMaxGrowth == 0) options.tbvMaxGrowth = D == 2 ? 32.0 : 4.0;
+        if (options.tbvMaxGrowth == 0) options.tbvMaxGrowth = D == 2 ? 32.0 : 8.0;
     }
 
     // ---- placements and rasterization ------------------------------------------------------------
