@@ -384,9 +384,10 @@ TEST_CASE("DenseStorage opaque counts, frame stamps and id lists", "[grid]") {
         CHECK_FALSE(s.used(k, 2));
         CHECK_FALSE(s.visited(k2, 2));
         CHECK_FALSE(s.occluded(k2, 1));
-        s.setOccluded(k, 0xFFFFFFFEu);
+        s.setOccluded(k, DenseStorage<2>::kMaxStamp);
+        CHECK(s.occluded(k, DenseStorage<2>::kMaxStamp));
         s.resetStamps();
-        CHECK_FALSE(s.occluded(k, 0xFFFFFFFEu));
+        CHECK_FALSE(s.occluded(k, DenseStorage<2>::kMaxStamp));
         CHECK_FALSE(s.occluded(k, 1));
         CHECK_FALSE(s.used(k, 1));
         CHECK_FALSE(s.visited(k2, 1));

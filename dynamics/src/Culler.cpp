@@ -144,7 +144,7 @@ template <int D> struct Culler<D>::Impl {
     // tbvMaxFrames, so a bucket never holds two different frames). Entries of TBVs revealed or
     // renewed meanwhile are recognised by their generation and dropped.
     std::vector<std::vector<std::pair<ObjectSlot, std::uint32_t>>> expiring;
-    std::uint32_t frame = 0;         // stamp of the stamped matrices, wraps
+    std::uint32_t frame = 0;         // stamp of the stamped matrices, 1..DenseStorage::kMaxStamp, then again
     std::uint64_t frameIndex = 0;    // cull() calls so far, never wraps
     bool havePrevCamera = false;
     IVec<D> prevCamera{0};
@@ -556,7 +556,7 @@ template <int D> struct Culler<D>::Impl {
 
     void nextFrame() {
         ++frameIndex;
-        if (++frame == 0) { // the stamps wrapped: pay one full clear every 2^32 - 1 frames
+        if (++frame > DenseStorage<D>::kMaxStamp) { // past the stamps' range: one full clear, every 65,535 frames
             storage.resetStamps();
             std::fill(pvsStamp.begin(), pvsStamp.end(), 0);
             frame = 1;

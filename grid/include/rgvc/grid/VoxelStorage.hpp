@@ -9,7 +9,8 @@
 //                  not a flag, makes removing one of two overlapping objects exact; static objects (Os)
 //                  are counted in the same way, once.
 //   H  occluded    a frame stamp: H(v) holds iff stamp(v) == current frame. Starting a frame clears H
-//                  in O(1); the stamps wrap after 2^32 - 1 frames, when one full clear is paid.
+//                  in O(1); stamps run up to S::kMaxStamp, and the user of the storage then calls
+//                  resetStamps() (one full clear) and starts again at 1.
 //   I  ids         per-voxel singly linked lists of dense object slots, drawn from one node pool with a
 //                  free list. After warm-up no insertion allocates.
 //   U  used        a frame stamp marking voxels already part of an extended occluder this frame, so a
@@ -40,6 +41,7 @@ template <class S>
 concept VoxelStorage = requires(S s, const S cs, VoxelKey k, ObjectSlot o, std::uint32_t stamp) {
     { cs.opaque(k) } -> std::convertible_to<bool>;
     s.addOpaque(k, 1);
+    { S::kMaxStamp } -> std::convertible_to<std::uint32_t>;
     { cs.occluded(k, stamp) } -> std::convertible_to<bool>;
     s.setOccluded(k, stamp);
     { cs.used(k, stamp) } -> std::convertible_to<bool>;
@@ -102,51 +104,81 @@ private:
     std::uint32_t m_free = kNone;
 };
 
-/// Dense arrays over the whole grid: one 16-byte cell per voxel (O count, I list head, H and V stamps)
-/// so that a traversal step touches one cache line, whatever the axis it walks along (profiling the 3D
-/// traversal, which walks x faces with a stride of a whole row, showed one miss per matrix per voxel with
-/// separate arrays), plus a 4-byte U stamp (read only at opaque voxels), 8 bytes per (voxel, object)
-/// incidence in I.
+/// Dense arrays over the whole grid. What a traversal step reads and writes sits in one 8-byte cell per
+/// voxel: the I list head with O's flag in its top bit, and 16-bit H and V stamps. One cell, so that a step
+/// touches one cache line whatever the axis it walks along (profiling the 3D traversal, which walks x faces
+/// with a stride of a whole row, showed one miss per matrix per voxel with separate arrays); 8 bytes, not
+/// the 16 of 32-bit stamps and an inline O count, so that twice as many voxels share the caches (the 3D
+/// traversal is bound by these reads). O's count (4 bytes, touched only when objects are rasterized) and the
+/// U stamps (2 bytes, read only at opaque voxels) live apart; 8 bytes per (voxel, object) incidence in I.
+/// Stamps are 16 bits: a full clear every 65,535 frames.
 template <int D> class DenseStorage {
 public:
-    explicit DenseStorage(const GridGeometry<D>& grid) : m_cells(grid.voxelCount()), m_used(grid.voxelCount(), 0) {}
+    static constexpr std::uint32_t kMaxStamp = 0xFFFF;
 
-    bool opaque(VoxelKey k) const { return m_cells[k].opaque != 0; }
+    explicit DenseStorage(const GridGeometry<D>& grid)
+        : m_cells(grid.voxelCount()), m_opaque(grid.voxelCount(), 0), m_used(grid.voxelCount(), 0) {}
+
+    bool opaque(VoxelKey k) const { return (m_cells[k].head & kOpaqueBit) != 0; }
     /// delta is +1 or -1; the count never goes below zero when calls are paired.
     void addOpaque(VoxelKey k, std::int32_t delta) {
-        m_cells[k].opaque = std::uint32_t(std::int64_t(m_cells[k].opaque) + delta);
+        const std::uint32_t n = std::uint32_t(std::int64_t(m_opaque[k]) + delta);
+        m_opaque[k] = n;
+        m_cells[k].head = (m_cells[k].head & ~kOpaqueBit) | (n != 0 ? kOpaqueBit : 0u);
     }
 
     bool occluded(VoxelKey k, std::uint32_t stamp) const { return m_cells[k].occluded == stamp; }
-    void setOccluded(VoxelKey k, std::uint32_t stamp) { m_cells[k].occluded = stamp; }
+    void setOccluded(VoxelKey k, std::uint32_t stamp) { m_cells[k].occluded = std::uint16_t(stamp); }
     bool used(VoxelKey k, std::uint32_t stamp) const { return m_used[k] == stamp; }
-    void setUsed(VoxelKey k, std::uint32_t stamp) { m_used[k] = stamp; }
+    void setUsed(VoxelKey k, std::uint32_t stamp) { m_used[k] = std::uint16_t(stamp); }
     bool visited(VoxelKey k, std::uint32_t stamp) const { return m_cells[k].visited == stamp; }
-    void setVisited(VoxelKey k, std::uint32_t stamp) { m_cells[k].visited = stamp; }
+    void setVisited(VoxelKey k, std::uint32_t stamp) { m_cells[k].visited = std::uint16_t(stamp); }
 
-    bool hasIds(VoxelKey k) const { return m_cells[k].head != kNone; }
-    template <class Fn> void forEachId(VoxelKey k, Fn&& fn) const { m_ids.forEach(m_cells[k].head, fn); }
-    void addId(VoxelKey k, ObjectSlot o) { m_ids.add(m_cells[k].head, o); }
-    void removeId(VoxelKey k, ObjectSlot o) { m_ids.remove(m_cells[k].head, o); }
+    bool hasIds(VoxelKey k) const { return (m_cells[k].head & ~kOpaqueBit) != kNoList; }
+    template <class Fn> void forEachId(VoxelKey k, Fn&& fn) const { m_ids.forEach(listOf(k), fn); }
+    void addId(VoxelKey k, ObjectSlot o) {
+        std::uint32_t head = listOf(k);
+        m_ids.add(head, o);
+        setList(k, head);
+    }
+    void removeId(VoxelKey k, ObjectSlot o) {
+        std::uint32_t head = listOf(k);
+        m_ids.remove(head, o);
+        setList(k, head);
+    }
 
-    /// Called when the frame stamp wraps around: every stamp back to "never".
+    /// Called when the frame stamp passes kMaxStamp: every stamp back to "never".
     void resetStamps() {
         for (Cell& c : m_cells) c.occluded = c.visited = 0;
-        std::fill(m_used.begin(), m_used.end(), 0);
+        std::fill(m_used.begin(), m_used.end(), std::uint16_t(0));
     }
 
     /// Incidences currently stored in I (for stats and consistency tests).
     std::size_t idCount() const { return m_ids.size(); }
 
 private:
+    // The list head's top bit is O's flag: node indices stay below 2^31 (a pool of 2^31 nodes would
+    // hold 16 GiB), and 0x7FFFFFFF is "no list".
+    static constexpr std::uint32_t kOpaqueBit = 0x80000000u;
+    static constexpr std::uint32_t kNoList = 0x7FFFFFFFu;
+
+    std::uint32_t listOf(VoxelKey k) const {
+        const std::uint32_t h = m_cells[k].head & ~kOpaqueBit;
+        return h == kNoList ? kNone : h;
+    }
+    void setList(VoxelKey k, std::uint32_t head) {
+        m_cells[k].head = (m_cells[k].head & kOpaqueBit) | (head == kNone ? kNoList : head);
+    }
+
     struct Cell {
-        std::uint32_t opaque = 0;
-        std::uint32_t head = kNone;
-        std::uint32_t occluded = 0;
-        std::uint32_t visited = 0;
+        std::uint32_t head = kNoList; // I list head (kNoList: empty), O flag in the top bit
+        std::uint16_t occluded = 0;
+        std::uint16_t visited = 0;
     };
+    static_assert(sizeof(Cell) == 8);
     std::vector<Cell> m_cells;
-    std::vector<std::uint32_t> m_used;
+    std::vector<std::uint32_t> m_opaque; // O counts
+    std::vector<std::uint16_t> m_used;
     SlotListPool m_ids;
 };
 
