@@ -65,6 +65,13 @@ std::string rejectText(const std::string& text) {
 }
 std::string reject(const json& j) { return rejectText(j.dump()); }
 
+// text with its first `from` replaced by `to` (which must be there).
+std::string replacedIn(std::string text, const std::string& from, const std::string& to) {
+    const auto at = text.find(from);
+    REQUIRE(at != std::string::npos);
+    return text.replace(at, from.size(), to);
+}
+
 std::string tempPath(const std::string& name) {
     return (std::filesystem::temp_directory_path() / ("rgvc_test_scene_" + name)).string();
 }
@@ -215,12 +222,7 @@ TEST_CASE("bad documents and top-level fields", "[scene]") {
 
 TEST_CASE("numbers too large for double (1e999) name their field", "[scene]") {
     std::string text = example2D().dump();
-    auto replaced = [&](const std::string& from, const std::string& to) {
-        std::string t = text;
-        auto at = t.find(from);
-        REQUIRE(at != std::string::npos);
-        return t.replace(at, from.size(), to);
-    };
+    auto replaced = [&](const std::string& from, const std::string& to) { return replacedIn(text, from, to); };
     CHECK(rejectText(replaced("\"radius\":3.5", "\"radius\":1e999")) == "objects[0].radius");
     CHECK(rejectText(replaced("\"position\":[10.5,20.25]", "\"position\":[10.5,-1e999]")) == "camera.position[1]");
     CHECK(rejectText(replaced("\"voxel_size\":1.0", "\"voxel_size\":1e400")) == "grid.voxel_size");
@@ -363,12 +365,7 @@ TEST_CASE("error messages stay on one line", "[scene]") {
 
 TEST_CASE("field paths built from keys with line breaks stay on one line (fuzz_scene_loader finds)", "[scene]") {
     std::string text = example2D().dump();
-    auto replaced = [&](const std::string& from, const std::string& to) {
-        std::string t = text;
-        auto at = t.find(from);
-        REQUIRE(at != std::string::npos);
-        return t.replace(at, from.size(), to);
-    };
+    auto replaced = [&](const std::string& from, const std::string& to) { return replacedIn(text, from, to); };
     // An overflowing number under a key holding "\r": the field names the key, flattened like the message.
     CHECK(rejectText(replaced("\"radius\":3.5", "\"rad\\rius\":1e999")) == "objects[0].rad ius");
     // "number overflow" quoted from a key in a plain syntax error is a syntax error (a position), not a field.

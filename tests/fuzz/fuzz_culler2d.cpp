@@ -21,6 +21,7 @@
 // Build: -DRGVC_BUILD_FUZZERS=ON -DCMAKE_CXX_COMPILER=clang++; run: scripts/fuzz.sh culler2d.
 #include "ExactVisibility2D.hpp"
 #include "RandomScenes2D.hpp"
+#include "FuzzTrace.hpp"
 
 #include "rgvc/dynamics/Culler.hpp"
 
@@ -207,20 +208,7 @@ void checkAgainstReference(const Culler2D& culler, const Model& model, const Cam
     }
 }
 
-// RGVC_FUZZ_TRACE=1: every cull prints the scene as it stands (a scene file) and its PVS, to replay a
-// finding step by step.
-const bool kTrace = std::getenv("RGVC_FUZZ_TRACE") != nullptr;
-
-void trace(const Culler2D& culler, const Model& model, const Camera2& cam, const CullResult& r) {
-    std::vector<ObjectDesc<2>> descs;
-    for (const auto& [id, s] : model.objects) descs.push_back({id, s, true, 0});
-    std::string pvs;
-    for (ObjectId id : r.pvs) pvs += (pvs.empty() ? "" : " ") + std::to_string(id);
-    std::fprintf(stderr, "cull: PVS [%s], outside grid %zu, voxels visited %zu, hidden objects %zu, TBVs created %zu revealed %zu\n%s\n",
-                 pvs.c_str(), std::size_t(r.stats.objectsOutsideGrid), std::size_t(r.stats.voxelsVisited),
-                 std::size_t(r.stats.hiddenObjects), std::size_t(r.stats.tbvsCreated), std::size_t(r.stats.tbvsRevealed),
-                 reference::toJson(culler.grid(), descs, cam).c_str());
-}
+using fuzz::kTrace;
 
 } // namespace
 
@@ -335,7 +323,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             const bool tame = in.takeTame();
             try {
                 const CullResult& r = culler->cull(cam);
-                if (kTrace) trace(*culler, model, cam, r);
+                if (kTrace) fuzz::traceCull<2>(*culler, model.objects, cam, r);
                 checkResult(*culler, model, r);
                 if (kReference && tameGrid && model.tame && tame) checkAgainstReference(*culler, model, cam, r);
                 lastCamera = cam;
