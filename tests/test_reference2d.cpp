@@ -169,6 +169,17 @@ TEST_CASE("reference2d: touchesViewRegion", "[reference]") {
     CHECK(touchesViewRegion(box({-5, -5}, {-4, 5}), wide)); // spans the missing cone into the wedge
 }
 
+TEST_CASE("reference2d: a sliver polygon stays where it is (fuzz_culler2d find)", "[reference]") {
+    // Two of its points 1.4e-14 apart: its long edges are nearly parallel, and their rounded normals once
+    // left a strip reaching past the polygon, "seen" from a camera looking away from it.
+    const ConvexPolygon sliver{{{171, 171}, {115, 115.00000000000001}, {115, 115}}};
+    CHECK_FALSE(touchesViewRegion(sliver, camera({-29, 263}, {0, 1}, 179.999)));
+    CHECK_FALSE(exactVisible2D({sliver}, camera({-29, 263}, {0, 1}, 179.999))[0]);
+    // Looking at it, it is there.
+    CHECK(touchesViewRegion(sliver, camera({-29, 263}, {1, -2}, 90)));
+    CHECK(touchesViewRegion(sliver, camera({143, 143}, {1, 1}, 10)));
+}
+
 TEST_CASE("reference2d: analytic sweep agrees with dense ray casting on random scenes", "[reference]") {
     // Dense rays can only miss things (gaps narrower than their spacing, single-ray visibility), so the
     // analytic set must contain the dense set; the difference is reported, not asserted.

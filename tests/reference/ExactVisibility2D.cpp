@@ -89,6 +89,23 @@ Interval clip(const Obj& o, const Vec2& u, double off) {
         else if (f > 0) return {};
         if (lo > hi) return {};
     }
+    // The bounding box too (grown or shrunk by off likewise, so no point of the object is lost): for a
+    // sliver, two nearly parallel edges meet far from where their rounded normals say, and the half-planes
+    // alone left a strip reaching hundreds of units past the polygon (fuzz_culler2d found a sliver
+    // triangle reported visible from a camera looking away from it).
+    for (int a = 0; a < 2; ++a) {
+        const double bLo = o.lo[a] - off, bHi = o.hi[a] + off;
+        if (u[a] > 0) {
+            lo = std::max(lo, bLo / u[a]);
+            hi = std::min(hi, bHi / u[a]);
+        } else if (u[a] < 0) {
+            lo = std::max(lo, bHi / u[a]);
+            hi = std::min(hi, bLo / u[a]);
+        } else if (bLo > 0 || bHi < 0) {
+            return {};
+        }
+        if (lo > hi) return {};
+    }
     return {lo, hi};
 }
 
