@@ -368,6 +368,9 @@ TEST_CASE("field paths built from keys with line breaks stay on one line (fuzz_s
     auto replaced = [&](const std::string& from, const std::string& to) { return replacedIn(text, from, to); };
     // An overflowing number under a key holding "\r": the field names the key, flattened like the message.
     CHECK(rejectText(replaced("\"radius\":3.5", "\"rad\\rius\":1e999")) == "objects[0].rad ius");
+    // A NUL or another control character in a key is written as \u00XX (a NUL once cut what() short).
+    CHECK(rejectText(replaced("\"radius\":3.5", "\"rad\\u0000ius\":1e999")) == "objects[0].rad\\u0000ius");
+    CHECK(rejectText(replaced("\"radius\":3.5", "\"rad\\u001fius\":1e999")) == "objects[0].rad\\u001fius");
     // "number overflow" quoted from a key in a plain syntax error is a syntax error (a position), not a field.
     const std::string field = rejectText(replaced("\"radius\":3.5", "\"number overflow\\n\" 3.5"));
     CHECK(field.rfind("line 1, column ", 0) == 0);

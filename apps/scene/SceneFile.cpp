@@ -11,6 +11,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -24,18 +25,32 @@ namespace {
 
 using json = nlohmann::json;
 
-// Messages must stay on one line whatever the file contains (names, echoed tokens).
-std::string oneLine(std::string s) {
-    for (char& c : s)
-        if (c == '\n' || c == '\r') c = ' ';
-    return s;
+// Messages must stay on one line whatever the file contains (names, echoed tokens): line breaks become
+// spaces, other control characters \u00XX (a NUL in a key once cut what() short, found by
+// fuzz_scene_loader).
+std::string oneLine(const std::string& s) {
+    std::string out;
+    out.reserve(s.size());
+    for (char c : s) {
+        const auto u = static_cast<unsigned char>(c);
+        if (c == '\n' || c == '\r') {
+            out += ' ';
+        } else if (u < 0x20 || u == 0x7F) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", unsigned(u));
+            out += buf;
+        } else {
+            out += c;
+        }
+    }
+    return out;
 }
 
 } // namespace
 
 SceneError::SceneError(std::string file, std::string field, std::string problem)
-    : std::runtime_error(oneLine(file + ": " + field + ": " + problem)), m_file(oneLine(std::move(file))),
-      m_field(oneLine(std::move(field))), m_problem(oneLine(std::move(problem))) {}
+    : std::runtime_error(oneLine(file + ": " + field + ": " + problem)), m_file(oneLine(file)),
+      m_field(oneLine(field)), m_problem(oneLine(problem)) {}
 // (The parts are flattened too, so that what() is always exactly "<file>: <field>: <problem>" of them:
 // a field path can hold a key with a line break in it, found by fuzz_scene_loader.)
 
