@@ -22,8 +22,10 @@
 //
 //   rgvc_bench3d [--scenario paper50|paper100|large|accuracy|all] [--frames N] [--repeats R] [--seed S]
 //                [--accuracy-frames N] [--reference-grid N] [--reference-targets N] [--spheres N]
-//                [--large-spheres N] [--tbv boundary|shell|filled|off] [--tbv-max-growth G]
+//                [--large-spheres N] [--tbv boundary|shell|filled|off] [--tbv-max-growth G] [--buffer-rows R]
 //
+// The full pipeline is the grid followed by the occlusion buffer (CullerOptions::occlusionBufferRows, 64
+// rows unless --buffer-rows says otherwise); "grid only" is the same culler without the buffer.
 // --tbv picks how the cullers hold hidden moving spheres (CullerOptions::tbvDiscretization; off: no TBVs,
 // every sphere stays in O and I); --tbv-max-growth sets CullerOptions::tbvMaxGrowth (0: the default). The spheres are moved with updateObject (push): a hidden sphere whose
 // new placement stays inside its TBV costs O(1).
@@ -57,11 +59,21 @@ struct Variant {
     CullerOptions options;
 };
 
-constexpr int kVariants = 3;
-// Not const: --tbv sets the temporal-bounding-volume options of every variant.
-Variant kVariantList[kVariants] = {{"rgvc (caps k-1, k-2, k-4, ...)", {true, true}},
-                                         {"rgvc, no extension (caps k-1)", {true, false}},
-                                         {"grid VFC only (baseline)", {false, false}}};
+CullerOptions variantOptions(bool occlusion, bool extension, int bufferRows) {
+    CullerOptions o;
+    o.occlusion = occlusion;
+    o.occluderExtension = extension;
+    o.occlusionBufferRows = bufferRows;
+    return o;
+}
+
+constexpr int kVariants = 4;
+// Not const: --tbv sets the temporal-bounding-volume options of every variant, --buffer-rows the rows of
+// the occlusion buffer of those that have one.
+Variant kVariantList[kVariants] = {{"rgvc (grid + occlusion buffer)", variantOptions(true, true, 64)},
+                                   {"rgvc, grid only (no buffer)", variantOptions(true, true, 0)},
+                                   {"rgvc, grid caps k-1 + buffer", variantOptions(true, false, 64)},
+                                   {"grid VFC only (baseline)", variantOptions(false, false, 0)}};
 
 /// The benchmark's world: `spheres` spheres in 100 x 60 x 100 units (or `world` units), culled on a
 /// grid of `resolution` voxels covering the same box.
@@ -316,11 +328,20 @@ int main(int argc, char** argv) {
             }
             for (Variant& v : kVariantList) v.options.tbvMaxGrowth = g;
         }
+        else if (a == "--buffer-rows") {
+            const int rows = std::atoi(need("--buffer-rows").c_str());
+            if (rows < 1 || rows > 2048) {
+                std::fprintf(stderr, "rgvc_bench3d: --buffer-rows needs an integer in [1, 2048]\n");
+                return 2;
+            }
+            for (Variant& v : kVariantList)
+                if (v.options.occlusionBufferRows > 0) v.options.occlusionBufferRows = rows;
+        }
         else {
             std::fprintf(stderr,
                          "usage: rgvc_bench3d [--scenario paper50|paper100|large|accuracy|all] [--frames N] [--repeats R] "
                          "[--accuracy-frames N] [--reference-grid N] [--reference-targets N] [--spheres N] [--large-spheres N] "
-                         "[--seed S] [--tbv boundary|shell|filled|off] [--tbv-max-growth G]\n");
+                         "[--seed S] [--tbv boundary|shell|filled|off] [--tbv-max-growth G] [--buffer-rows R]\n");
             return a == "--help" || a == "-h" ? 0 : 2;
         }
     }

@@ -20,6 +20,7 @@
 #include "SceneFile.hpp"
 #include "SceneMotion.hpp"
 #include "rgvc/dynamics/Culler.hpp"
+#include "rgvc/grid/OcclusionBuffer3D.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -27,6 +28,7 @@
 #include <charconv>
 #include <chrono>
 #include <cstdint>
+#include <cstdlib>
 #include <iostream>
 #include <numeric>
 #include <optional>
@@ -43,7 +45,7 @@ using Clock = std::chrono::steady_clock;
 
 const char* const kCullUsage =
     "usage: rgvc cull SCENE.json [--frames N] [--dump-objects] [--no-occlusion] [--no-extension]\n"
-    "                 [--no-tbv] [--filled-tbv]\n"
+    "                 [--no-tbv] [--filled-tbv] [--buffer-rows R]\n"
     "\n"
     "Runs N frames of a scene file (the format is described in the project README) and prints one\n"
     "JSON object per frame on stdout:\n"
@@ -58,6 +60,8 @@ const char* const kCullUsage =
     "  --no-extension   occlusion without occluder extension\n"
     "  --no-tbv         no temporal bounding volumes: every moving object re-placed every frame\n"
     "  --filled-tbv     TBVs written as filled regions instead of boundaries\n"
+    "  --buffer-rows R  3D: rows of the occlusion buffer that refines the grid's PVS, 0..2048\n"
+    "                   (default 64; 0 turns it off)\n"
     "  -h, --help       this text\n"
     "\n"
     "stats: cull_ms (library time of the frame, scene update included), update_ms (its scene-update\n"
@@ -65,7 +69,8 @@ const char* const kCullUsage =
     "occluders_extended, occluder_voxels, shadows, voxels_marked_occluded, early_termination,\n"
     "occlusion_skipped, fallback, objects_outside_grid, placement_queries, tracked_objects,\n"
     "hidden_objects, tbvs_created, tbvs_renewed, tbvs_revealed, tbvs_refused, tbvs_held, camera_jump,\n"
-    "speed_violations, grid_writes, tbv_lookups_skipped; frame 0 adds setup_ms.\n"
+    "speed_violations, grid_writes, tbv_lookups_skipped, buffer_tested, buffer_hidden, buffer_ms;\n"
+    "frame 0 adds setup_ms.\n"
     "\n"
     "Exit status: 0 success; 2 bad input (one line \"FILE: FIELD: PROBLEM\" on stderr) or bad usage\n"
     "(one line \"rgvc cull: ...\"), and then nothing on stdout; 1 internal error.\n";
@@ -118,6 +123,15 @@ CullArgs parseArgs(int argc, char** argv) {
                 a.options.temporalBoundingVolumes = false;
             } else if (arg == "--filled-tbv") {
                 a.options.tbvDiscretization = TbvDiscretization::Filled;
+            } else if (arg == "--buffer-rows") {
+                if (i + 1 >= argc) throw UsageError("--buffer-rows: missing value");
+                const std::string v = argv[++i];
+                char* end = nullptr;
+                const long rows = std::strtol(v.c_str(), &end, 10);
+                if (v.empty() || *end != '\0' || rows < 0 || rows > OcclusionBuffer3D::kMaxExtent)
+                    throw UsageError("--buffer-rows: expected an integer in [0, " +
+                                     std::to_string(OcclusionBuffer3D::kMaxExtent) + "], got '" + v + "'");
+                a.options.occlusionBufferRows = int(rows);
             } else {
                 throw UsageError("unknown option '" + arg + "' (try `rgvc cull --help`)");
             }
@@ -153,6 +167,9 @@ ojson statsJson(const CullStats& s) {
     j["occlusion_skipped"] = s.occlusionSkipped;
     j["fallback"] = toString(s.fallback);
     j["objects_outside_grid"] = s.objectsOutsideGrid;
+    j["buffer_tested"] = s.bufferTested;
+    j["buffer_hidden"] = s.bufferHidden;
+    j["buffer_ms"] = s.bufferMs;
     j["placement_queries"] = s.placementQueries;
     j["tracked_objects"] = s.trackedObjects;
     j["hidden_objects"] = s.hiddenObjects;

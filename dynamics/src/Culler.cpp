@@ -6,6 +6,7 @@
 #include "rgvc/grid/ConservativeRaster.hpp"
 #include "rgvc/grid/FrustumTraversal2D.hpp"
 #include "rgvc/grid/FrustumTraversal3D.hpp"
+#include "rgvc/grid/OcclusionBuffer3D.hpp"
 #include "rgvc/grid/ViewFrustum.hpp"
 #include "rgvc/grid/ViewWedge.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
@@ -157,6 +158,10 @@ template <int D> struct Culler<D>::Impl {
     std::uint64_t writes = 0;
     std::vector<ObjectSlot> revealScratch;
     Placement fetched; // the last placement a query returned
+    // The grid PVS's slots in the order added, and the occlusion buffer that refines it (3D).
+    std::vector<ObjectSlot> pvsSlots;
+    std::vector<std::pair<double, ObjectSlot>> bufferOrder;
+    OcclusionBuffer3D occlusionBuffer;
     // Footprint buffers reused by every move (no allocation per update after warm-up).
     std::vector<VoxelKey> oldTouched, oldInner, newTouched, newInner;
 
@@ -552,6 +557,46 @@ template <int D> struct Culler<D>::Impl {
         pvsStamp[slot] = frame;
         records[slot].lastPvsFrame = frameIndex;
         result.pvs.push_back(records[slot].id);
+        pvsSlots.push_back(slot);
+    }
+
+    /// The occlusion buffer's pass over the grid's PVS (OcclusionBuffer3D.hpp): nearest first, each object
+    /// with a current placement is tested against the image of the nearer ones kept, and drawn into it when
+    /// it stays. Shapes are grown (tests) or shrunk (drawing) by their conversion slack and the camera's.
+    /// Parked objects have no current placement: they stay and occlude nothing. Only result.pvs changes.
+    template <class View> void refineWithBuffer(const View& view, CullStats& st) {
+        if constexpr (D == 3) {
+            const auto t0 = std::chrono::steady_clock::now();
+            if (!occlusionBuffer.begin(view, options.occlusionBufferRows)) return;
+            bufferOrder.clear();
+            for (ObjectSlot slot : pvsSlots) {
+                const Record& r = records[slot];
+                if (r.state != State::Tracked && r.state != State::Static) continue;
+                const double slack = grid.conversionSlack(r.at.worldMagnitude) + view.slack();
+                bufferOrder.push_back({occlusionBuffer.nearestDistance(r.at.local, slack), slot});
+            }
+            std::sort(bufferOrder.begin(), bufferOrder.end());
+            std::uint32_t removed = 0;
+            for (const auto& [distance, slot] : bufferOrder) {
+                const Record& r = records[slot];
+                const double slack = grid.conversionSlack(r.at.worldMagnitude) + view.slack();
+                if (occlusionBuffer.hidden(r.at.local, slack)) {
+                    pvsStamp[slot] = 0; // marks it for removal below; the grid's verdict (lastPvsFrame) stays
+                    ++removed;
+                } else {
+                    occlusionBuffer.draw(r.at.local, slack);
+                }
+            }
+            if (removed != 0) {
+                result.pvs.clear();
+                for (ObjectSlot slot : pvsSlots)
+                    if (pvsStamp[slot] == frame) result.pvs.push_back(records[slot].id);
+                    else pvsStamp[slot] = frame; // back to "in this frame's grid PVS"
+            }
+            st.bufferTested = occlusionBuffer.stats().tested;
+            st.bufferHidden = removed;
+            st.bufferMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        }
     }
 
     void nextFrame() {
@@ -572,6 +617,7 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
     const auto t0 = std::chrono::steady_clock::now();
     nextFrame();
     result.pvs.clear();
+    pvsSlots.clear();
     CullStats& st = result.stats;
     st = CullStats{};
     st.objectCount = std::uint32_t(slotOf.size());
@@ -633,6 +679,7 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
     st.parkedObjects = std::uint32_t(parked.size());
     st.gridWrites = writes;
     st.tbvMatrixAllocated = tbvs.allocated();
+    if (options.occlusion && options.occlusionBufferRows > 0 && pvsSlots.size() > 1) refineWithBuffer(view, st);
     std::sort(result.pvs.begin(), result.pvs.end());
     st.pvsSize = std::uint32_t(result.pvs.size());
     st.cullMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -647,6 +694,9 @@ template <int D> Culler<D>::Culler(const GridGeometry<D>& grid, const CullerOpti
         throw InvalidInput("options.tbvMaxFrames", "must be in [1, 65536], got " + std::to_string(options.tbvMaxFrames));
     if (!std::isfinite(options.tbvMaxGrowth) || !(options.tbvMaxGrowth >= 0))
         throw InvalidInput("options.tbvMaxGrowth", "must be finite and >= 0");
+    if (options.occlusionBufferRows < 0 || options.occlusionBufferRows > OcclusionBuffer3D::kMaxExtent)
+        throw InvalidInput("options.occlusionBufferRows", "must be in [0, " + std::to_string(OcclusionBuffer3D::kMaxExtent) +
+                                                               "], got " + std::to_string(options.occlusionBufferRows));
     if (options.tbvDiscretization != TbvDiscretization::Boundary && options.tbvDiscretization != TbvDiscretization::Filled &&
         options.tbvDiscretization != TbvDiscretization::Shell)
         throw InvalidInput("options.tbvDiscretization", "unknown value");

@@ -22,6 +22,10 @@ ViewFrustum::ViewFrustum(const Camera3& camera, const GridGeometry3& grid) {
     const Vec3 trueUp = glm::cross(right, m_forward);
     const double tv = std::tan(0.5 * camera.fovDeg * kPi / 180.0);
     const double th = camera.aspect * tv;
+    m_right = right;
+    m_trueUp = trueUp;
+    m_tanHalfWidth = th;
+    m_tanHalfHeight = tv;
     // Edges counter-clockwise seen from behind: bottom-left, bottom-right, top-right, top-left.
     const double sx[4] = {-1, 1, 1, -1}, sy[4] = {-1, -1, 1, 1};
     for (int i = 0; i < 4; ++i) m_edges[i] = glm::normalize(m_forward + sx[i] * th * right + sy[i] * tv * trueUp);

@@ -114,6 +114,9 @@ struct CullStats {
     bool occlusionSkipped = false;        ///< no opaque voxel was met: no occlusion work at all
     Fallback fallback = Fallback::None;
     std::uint32_t objectsOutsideGrid = 0; ///< objects partly outside the grid, tested against the view region
+    std::uint32_t bufferTested = 0;       ///< 3D: grid-PVS objects tested against the occlusion buffer
+    std::uint32_t bufferHidden = 0;       ///< of those, hidden by it and left out of the PVS
+    double bufferMs = 0;                  ///< of cullMs: the occlusion buffer's time
 };
 
 struct CullResult {
@@ -167,6 +170,14 @@ struct CullerOptions {
     /// no promise; every TBV fits inside the grid. A placement found outside the grid while its TBV was
     /// live counts in stats.speedViolations (the frames before may have missed it).
     bool objectsStayInGrid = false;
+    /// 3D only: [Pixels] [Limit] 0..2048. Rows of the occlusion buffer that refines the grid's PVS
+    /// (OcclusionBuffer3D.hpp): the PVS objects, nearest first, are tested against the image of the
+    /// nearer ones and drawn into it, so clouds of objects smaller than a voxel, which leave O empty,
+    /// still hide what is behind them. Columns follow the aspect. 0 turns the stage off. Only the reported
+    /// PVS shrinks: TBVs and tracking follow the grid's verdict, so an object the buffer hides stays in O
+    /// and I (cheap to reveal) instead of flipping between tracked and hidden. Ignored in 2D and when
+    /// `occlusion` is false.
+    int occlusionBufferRows = 64;
 };
 
 template <int D> class Culler {

@@ -17,6 +17,13 @@ public:
 
     const Vec3& apex() const { return m_apex; }
     const Vec3& forward() const { return m_forward; }
+    /// Unit vectors of the image: right = forward x up, trueUp = right x forward (orthonormal with forward).
+    const Vec3& right() const { return m_right; }
+    const Vec3& trueUp() const { return m_trueUp; }
+    /// Half extents of the image on the plane at distance 1 along forward: the view's directions are
+    /// forward + x right + y trueUp with |x| <= tanHalfWidth(), |y| <= tanHalfHeight().
+    double tanHalfWidth() const { return m_tanHalfWidth; }
+    double tanHalfHeight() const { return m_tanHalfHeight; }
     double far() const { return m_far; }
     /// [Voxel units] tolerance of the touch tests: the grid's conversionSlack().
     double slack() const { return m_slack; }
@@ -35,7 +42,8 @@ public:
     bool containsPoint(const Vec3& p) const;
 
 private:
-    Vec3 m_apex{0.0}, m_forward{0.0, 0.0, -1.0};
+    Vec3 m_apex{0.0}, m_forward{0.0, 0.0, -1.0}, m_right{1.0, 0.0, 0.0}, m_trueUp{0.0, 1.0, 0.0};
+    double m_tanHalfWidth = 1, m_tanHalfHeight = 1;
     Vec3 m_edges[4]{};
     Vec3 m_normals[4]{};
     double m_far = 0, m_slack = kConservativeSlack;

@@ -1,0 +1,117 @@
+// A conservative occlusion buffer over the camera's image: the refinement stage after the 3D grid
+// traversal (an object-space test in the spirit of hierarchical occlusion maps and masked software
+// occlusion culling; seed 001's CHC refines the grid's PVS with GL queries in the same place).
+//
+// Why a second stage. The grid can only use voxels *entirely* inside an object as occluders (O, §5.1),
+// so spheres smaller than about two voxels occlude nothing, and a cloud of them, which hides most of
+// what lies behind it, hides nothing in H. The buffer samples occlusion at pixel resolution instead,
+// and fuses any number of occluders, whatever their size against a voxel.
+//
+// The image. Directions of the view are forward + x right + y trueUp, |x| <= tanHalfWidth,
+// |y| <= tanHalfHeight (ViewFrustum). The buffer covers that rectangle, enlarged by a relative 1e-6 so
+// that rounding of the frustum's basis never puts a direction of the view outside it, with rows x cols
+// pixels. Pixel (i, j) is the cone of rays through the rectangle [x_i, x_i+1] x [y_j, y_j+1] of the
+// image plane at distance 1; its four corner rays span it.
+//
+// Occluders. depth(P) is an upper bound of the distance at which every ray of pixel P has entered the
+// interior of some occluder:
+//   - a pixel counts for an occluder only if its four corner rays pass through the occluder's interior.
+//     The rays from an outside point through the interior of a convex body form a convex cone, and the
+//     pixel's cone is the convex hull of its corner rays, so then every ray of the pixel does;
+//   - the distance at which a ray enters the body is largest at a corner ray. For a sphere it grows
+//     with the ray's angle to the centre direction (d/dθ of |c|cos θ - sqrt(ρ² - |c|² sin² θ) is
+//     |c| sin θ (|c| cos θ / sqrt(...) - 1) >= 0 when |c| > ρ), and {angle <= β} is a convex cone, so
+//     the largest angle over the pixel is at a corner. For a box the entry distance is a maximum of
+//     h |x| / (n.x) over its near planes, each quasi-convex on the image plane (its sublevel sets are
+//     second-order cones), so again the maximum is at a corner.
+//   So depth(P) = min over occluders covering P of max over P's corners of the entry distance.
+// Occludees. An object is hidden when every pixel its image can touch has depth(P) < its nearest
+// distance from the camera: every ray towards one of its points then passes through an occluder's
+// interior before reaching it, so the open segment to that point meets that interior (the contract's
+// definition of hidden). The image's pixels are bounded by an outer rectangle: exact tangent lines
+// for a sphere entirely in front of the camera, the projected corners for a box entirely in front,
+// and the whole image otherwise.
+//
+// Order. Testing objects nearest first and drawing each one that stays is the same as drawing all
+// before testing: an object can only be hidden by pixels whose depth is below its nearest distance,
+// and an object whose nearest distance is larger enters only at larger depths. A hidden object is not
+// drawn: its own pixels already have a smaller depth.
+//
+// Rounding. Every corner test and distance carries a relative margin (kRelMargin) on the safe side;
+// callers shrink occluders and grow occludees by their conversion slack (GridGeometry) and the
+// camera's (ViewFrustum::slack), which covers an apex off by that much: moving the camera by s is
+// moving every object by at most s.
+//
+// Units: voxel units (the grid's local coordinates), like ViewFrustum.
+#pragma once
+
+#include "rgvc/grid/Shapes.hpp"
+#include "rgvc/grid/ViewFrustum.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace rgvc {
+
+struct OcclusionBufferStats {
+    std::uint32_t occludersDrawn = 0; ///< objects drawn into the buffer
+    std::uint32_t tested = 0;         ///< hidden() calls
+    std::uint32_t hidden = 0;         ///< of those, answered true
+    std::uint64_t pixelsCovered = 0;  ///< pixels an occluder covered (depth lowered or not)
+};
+
+class OcclusionBuffer3D {
+public:
+    /// [Limit] rows of a buffer; columns follow the aspect, also at most this.
+    static constexpr int kMaxExtent = 2048;
+
+    /// Starts a frame over the image of `view`, every pixel open (depth +inf).
+    /// @param rows  [Limit] 1..kMaxExtent; columns = rows * aspect, rounded, clamped to 1..kMaxExtent.
+    /// @return false (and the buffer hides nothing) when the view is too extreme for a useful image:
+    ///         tanHalfWidth or tanHalfHeight outside [1e-4, 1e4] (fov within ~0.01 degree of 0 or 180).
+    bool begin(const ViewFrustum& view, int rows);
+
+    /// Nearest distance [voxel units] from the camera to the shape grown by `grow` (0 when the camera
+    /// is inside it): the sort key of the front-to-back order.
+    double nearestDistance(const Shape<3>& shape, double grow) const;
+
+    /// Conservative: true only if no point of the shape grown by `grow` [voxel units, >= 0] that lies in
+    /// the view is visible past the occluders drawn so far.
+    bool hidden(const Shape<3>& shape, double grow);
+
+    /// Draws the shape shrunk by `shrink` [voxel units, >= 0] as an occluder (nothing when the shrunk
+    /// shape is empty or holds the camera).
+    void draw(const Shape<3>& shape, double shrink);
+
+    int rows() const { return m_rows; }
+    int cols() const { return m_cols; }
+    /// Depth of pixel (col, row), +inf where no occluder covers it (for pictures and tests).
+    double depthAt(int col, int row) const { return m_depth[std::size_t(row) * std::size_t(m_cols) + std::size_t(col)]; }
+    const OcclusionBufferStats& stats() const { return m_stats; }
+
+private:
+    struct PixelRect {
+        int i0, i1, j0, j1; // inclusive; empty when i0 > i1
+    };
+    PixelRect wholeImage() const { return {0, m_cols - 1, 0, m_rows - 1}; }
+    /// Pixels whose cones can hold a direction with image coordinates in [x0, x1] x [y0, y1].
+    PixelRect pixelsOf(double x0, double x1, double y0, double y1) const;
+    /// Outer rectangle of the image of a sphere / box (relative to the apex).
+    PixelRect rectOf(const Vec3& c, double radius) const;
+    PixelRect rectOf(const Vec3& lo, const Vec3& hi) const;
+    const Vec3& cornerDir(int i, int j) const { return m_dirs[std::size_t(j) * std::size_t(m_cols + 1) + std::size_t(i)]; }
+    /// Draws an occluder whose entry distance along unit corner direction d is entry(d), or a negative
+    /// value when that ray misses the occluder's interior.
+    template <class Entry> void drawRect(const PixelRect& r, Entry&& entry);
+
+    Vec3 m_apex{0.0}, m_forward{0.0}, m_right{0.0}, m_up{0.0};
+    double m_halfW = 0, m_halfH = 0, m_pixelW = 0, m_pixelH = 0;
+    int m_rows = 0, m_cols = 0;
+    bool m_active = false;
+    std::vector<double> m_depth; // rows x cols
+    std::vector<Vec3> m_dirs;    // (rows + 1) x (cols + 1) unit corner directions
+    std::vector<double> m_rowA, m_rowB; // drawRect's corner entries of two lattice rows
+    OcclusionBufferStats m_stats;
+};
+
+} // namespace rgvc

@@ -1,0 +1,210 @@
+#include "rgvc/grid/OcclusionBuffer3D.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rgvc {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Relative margin of every distance and corner test, far above the rounding of a few dozen double
+/// operations (~1e-15) and far below anything that changes a verdict in practice.
+constexpr double kRelMargin = 1e-9;
+/// Relative enlargement of the image and of occludee rectangles: the frustum's basis and the
+/// projections are rounded, and a direction of the view must never fall outside its pixel rectangle.
+constexpr double kImageMargin = 1e-6;
+
+/// Unit vector along v (v is forward + x right + y up with |x|, |y| <= ~1e4: no overflow).
+Vec3 unit(const Vec3& v) { return v / std::sqrt(lengthSquared<3>(v)); }
+
+} // namespace
+
+bool OcclusionBuffer3D::begin(const ViewFrustum& view, int rows) {
+    m_stats = {};
+    m_active = false;
+    const double th = view.tanHalfWidth(), tv = view.tanHalfHeight();
+    if (rows < 1 || !(th >= 1e-4 && th <= 1e4 && tv >= 1e-4 && tv <= 1e4)) return false;
+    m_rows = std::min(rows, kMaxExtent);
+    m_cols = int(std::clamp(std::lround(double(m_rows) * th / tv), 1L, long(kMaxExtent)));
+    m_apex = view.apex();
+    m_forward = view.forward();
+    m_right = view.right();
+    m_up = view.trueUp();
+    m_halfW = th * (1 + kImageMargin);
+    m_halfH = tv * (1 + kImageMargin);
+    m_pixelW = 2 * m_halfW / m_cols;
+    m_pixelH = 2 * m_halfH / m_rows;
+    m_depth.assign(std::size_t(m_rows) * std::size_t(m_cols), kInf);
+    m_dirs.resize(std::size_t(m_rows + 1) * std::size_t(m_cols + 1));
+    for (int j = 0; j <= m_rows; ++j) {
+        const double y = -m_halfH + j * m_pixelH;
+        for (int i = 0; i <= m_cols; ++i) {
+            const double x = -m_halfW + i * m_pixelW;
+            m_dirs[std::size_t(j) * std::size_t(m_cols + 1) + std::size_t(i)] = unit(m_forward + x * m_right + y * m_up);
+        }
+    }
+    m_rowA.resize(std::size_t(m_cols + 1));
+    m_rowB.resize(std::size_t(m_cols + 1));
+    m_active = true;
+    return true;
+}
+
+OcclusionBuffer3D::PixelRect OcclusionBuffer3D::pixelsOf(double x0, double x1, double y0, double y1) const {
+    // Pixel i covers [-halfW + i w, -halfW + (i + 1) w]; a small index margin keeps a direction on a
+    // pixel boundary in both neighbours despite rounding.
+    auto index = [](double v, double half, double size, double bias) {
+        const double f = (v + half) / size + bias;
+        return f < -1.0 ? -1.0 : (f > 1e7 ? 1e7 : std::floor(f));
+    };
+    PixelRect r;
+    r.i0 = std::max(0, int(index(x0, m_halfW, m_pixelW, -1e-6)));
+    r.i1 = std::min(m_cols - 1, int(index(x1, m_halfW, m_pixelW, 1e-6)));
+    r.j0 = std::max(0, int(index(y0, m_halfH, m_pixelH, -1e-6)));
+    r.j1 = std::min(m_rows - 1, int(index(y1, m_halfH, m_pixelH, 1e-6)));
+    if (r.i0 > r.i1 || r.j0 > r.j1) r.i0 = 1, r.i1 = 0;
+    return r;
+}
+
+OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& c, double radius) const {
+    // In camera coordinates (X, Y, Z) = (c.right, c.up, c.forward) the image coordinate x = X / Z over
+    // the sphere takes the values over the disc of centre (cx, cz) and radius rho in the XZ plane; its
+    // extremes are the tangents X = m Z from the origin: (cx - m cz)^2 = rho^2 (1 + m^2), so
+    // m = (cx cz +- rho sqrt(cx^2 + cz^2 - rho^2)) / (cz^2 - rho^2), when the disc lies in Z > 0.
+    const double cx = glm::dot(c, m_right), cy = glm::dot(c, m_up), cz = glm::dot(c, m_forward);
+    if (!(cz > radius * 1.001)) return wholeImage();
+    const double den = cz * cz - radius * radius;
+    auto range = [&](double cw, double& lo, double& hi) {
+        const double root = radius * std::sqrt(cw * cw + cz * cz - radius * radius);
+        lo = (cw * cz - root) / den;
+        hi = (cw * cz + root) / den;
+        const double pad = 1e-8 * (std::abs(lo) + std::abs(hi) + 1.0);
+        lo -= pad;
+        hi += pad;
+    };
+    double x0, x1, y0, y1;
+    range(cx, x0, x1);
+    range(cy, y0, y1);
+    return pixelsOf(x0, x1, y0, y1);
+}
+
+OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec3& hi) const {
+    // A box entirely in front of the camera: its image is the convex hull of its corners' images.
+    double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf;
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 q{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+        const double z = glm::dot(q, m_forward);
+        if (!(z > 1e-6 * std::sqrt(lengthSquared<3>(q)))) return wholeImage();
+        const double x = glm::dot(q, m_right) / z, y = glm::dot(q, m_up) / z;
+        x0 = std::min(x0, x);
+        x1 = std::max(x1, x);
+        y0 = std::min(y0, y);
+        y1 = std::max(y1, y);
+    }
+    const double padX = 1e-8 * (std::abs(x0) + std::abs(x1) + 1.0), padY = 1e-8 * (std::abs(y0) + std::abs(y1) + 1.0);
+    return pixelsOf(x0 - padX, x1 + padX, y0 - padY, y1 + padY);
+}
+
+double OcclusionBuffer3D::nearestDistance(const Shape<3>& shape, double grow) const {
+    if (const auto* b = std::get_if<Ball<3>>(&shape))
+        return std::max(0.0, std::sqrt(lengthSquared<3>(b->center - m_apex)) - (b->radius + grow));
+    const Box<3>& box = std::get<Box<3>>(shape);
+    const Vec3 nearest = glm::clamp(m_apex, box.min - grow, box.max + grow);
+    return std::sqrt(lengthSquared<3>(nearest - m_apex));
+}
+
+bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow) {
+    if (!m_active) return false;
+    ++m_stats.tested;
+    const double nearest = nearestDistance(shape, grow) * (1 - kRelMargin);
+    if (!(nearest > 0)) return false;
+    PixelRect r;
+    if (const auto* b = std::get_if<Ball<3>>(&shape))
+        r = rectOf(b->center - m_apex, b->radius + grow);
+    else {
+        const Box<3>& box = std::get<Box<3>>(shape);
+        r = rectOf(box.min - grow - m_apex, box.max + grow - m_apex);
+    }
+    if (r.i0 > r.i1) return false; // its image misses the buffer: left to the grid's verdict
+    for (int j = r.j0; j <= r.j1; ++j) {
+        const double* row = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
+        for (int i = r.i0; i <= r.i1; ++i)
+            if (!(row[i] < nearest)) return false;
+    }
+    ++m_stats.hidden;
+    return true;
+}
+
+template <class Entry> void OcclusionBuffer3D::drawRect(const PixelRect& r, Entry&& entry) {
+    if (r.i0 > r.i1) return;
+    auto lattice = [&](int j, std::vector<double>& out) {
+        for (int i = r.i0; i <= r.i1 + 1; ++i) out[std::size_t(i)] = entry(cornerDir(i, j));
+    };
+    lattice(r.j0, m_rowA);
+    for (int j = r.j0; j <= r.j1; ++j) {
+        lattice(j + 1, m_rowB);
+        double* row = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
+        for (int i = r.i0; i <= r.i1; ++i) {
+            const double e = std::max(std::max(m_rowA[std::size_t(i)], m_rowA[std::size_t(i) + 1]),
+                                      std::max(m_rowB[std::size_t(i)], m_rowB[std::size_t(i) + 1]));
+            const double lo = std::min(std::min(m_rowA[std::size_t(i)], m_rowA[std::size_t(i) + 1]),
+                                       std::min(m_rowB[std::size_t(i)], m_rowB[std::size_t(i) + 1]));
+            if (lo < 0) continue; // a corner ray misses the interior
+            ++m_stats.pixelsCovered;
+            row[i] = std::min(row[i], e);
+        }
+        std::swap(m_rowA, m_rowB);
+    }
+}
+
+void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
+    if (!m_active) return;
+    if (const auto* b = std::get_if<Ball<3>>(&shape)) {
+        const double rho = b->radius - shrink;
+        const Vec3 c = b->center - m_apex;
+        const double l2 = lengthSquared<3>(c);
+        // Inside or nearly touching the camera: skipped (the cone would be nearly a half-space).
+        if (!(rho > 0) || !(l2 > rho * rho * (1 + 1e-6))) return;
+        const double len = std::sqrt(l2);
+        // A corner ray d passes through the interior when its angle to c is below asin(rho / |c|):
+        // c.d > sqrt(|c|^2 - rho^2), with a margin; it then enters at c.d - sqrt(rho^2 - |c|^2 + (c.d)^2).
+        const double cosLimit = std::sqrt(l2 - rho * rho) + kRelMargin * len;
+        ++m_stats.occludersDrawn;
+        drawRect(rectOf(c, rho), [&](const Vec3& d) {
+            const double cd = glm::dot(c, d);
+            if (!(cd > cosLimit)) return -1.0;
+            const double t = cd - std::sqrt(std::max(0.0, rho * rho - l2 + cd * cd));
+            return t * (1 + kRelMargin) + kRelMargin * len;
+        });
+        return;
+    }
+    const Box<3>& box = std::get<Box<3>>(shape);
+    const Vec3 lo = box.min + shrink - m_apex, hi = box.max - shrink - m_apex;
+    for (int a = 0; a < 3; ++a)
+        if (!(lo[a] < hi[a])) return;
+    const double scale = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
+    bool inside = true; // the camera in the (closed, slightly grown) box: skipped
+    for (int a = 0; a < 3; ++a) inside = inside && lo[a] <= kRelMargin * scale && hi[a] >= -kRelMargin * scale;
+    if (inside) return;
+    ++m_stats.occludersDrawn;
+    drawRect(rectOf(lo, hi), [&](const Vec3& d) {
+        // Slab test along the unit ray t d; the ray passes through the interior when the open slab
+        // intervals overlap with room to spare.
+        double tEnter = -kInf, tExit = kInf;
+        for (int a = 0; a < 3; ++a) {
+            if (d[a] == 0) {
+                if (!(lo[a] < 0 && hi[a] > 0)) return -1.0;
+                continue;
+            }
+            double t1 = lo[a] / d[a], t2 = hi[a] / d[a];
+            if (t1 > t2) std::swap(t1, t2);
+            tEnter = std::max(tEnter, t1);
+            tExit = std::min(tExit, t2);
+        }
+        if (!(tEnter > 0) || !(tExit - tEnter > kRelMargin * tExit + 1e-300)) return -1.0;
+        return tEnter * (1 + kRelMargin) + kRelMargin * scale;
+    });
+}
+
+} // namespace rgvc
