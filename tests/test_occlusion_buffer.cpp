@@ -23,6 +23,7 @@ namespace sd = rgvc::reference::scene3d_detail;
 
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
 const GridGeometry3 kUnitGrid(Vec3(0.0), 1.0, IVec3(100));
 
 Camera3 lookingAlongZ(Vec3 position = {50, 30, 0}, double fov = 60, double aspect = 1) {
@@ -132,7 +133,7 @@ TEST_CASE("buffer: an occludee grazing an occluder's silhouette is never hidden"
         const int rows = std::array<int, 4>{8, 33, 64, 150}[std::size_t(n % 4)];
         REQUIRE(buffer.begin(view, rows));
         // S: centre within 15 degrees of the axis, distance 5..40, angular radius 1..20 degrees.
-        const double dist = sd::uniform(rng, 5, 40), alpha = sd::uniform(rng, 1, 20) * M_PI / 180;
+        const double dist = sd::uniform(rng, 5, 40), alpha = sd::uniform(rng, 1, 20) * kPi / 180;
         Vec3 dirS = glm::normalize(Vec3{sd::uniform(rng, -0.25, 0.25), sd::uniform(rng, -0.25, 0.25), 1.0});
         const Ball<3> s{cam.position + dirS * dist, dist * std::sin(alpha)};
         // The occludee: cone of half-angle beta around dirO, touching S's cone from inside except for a poke of

@@ -11,8 +11,8 @@
 //   H  occluded    a frame stamp: H(v) holds iff stamp(v) == current frame. Starting a frame clears H
 //                  in O(1); stamps run up to S::kMaxStamp, and the user of the storage then calls
 //                  resetStamps() (one full clear) and starts again at 1.
-//   I  ids         per-voxel singly linked lists of dense object slots, drawn from one node pool with a
-//                  free list. After warm-up no insertion allocates.
+//   I  ids         per voxel, its only object slot stored in the cell, or a singly linked list of slots
+//                  drawn from one node pool with a free list. After warm-up no insertion allocates.
 //   U  used        a frame stamp marking voxels already part of an extended occluder this frame, so a
 //                  wall of n opaque voxels is extended once, not n times.
 //   T  TBVs        not here: T is read only at visited voxels and written only when TBVs change, and in
@@ -88,6 +88,9 @@ public:
         }
         return false;
     }
+    /// Whether the list starting at head (not kNone) holds exactly one node, and that node's slot.
+    bool isSingle(std::uint32_t head) const { return m_nodes[head].next == kNone; }
+    ObjectSlot front(std::uint32_t head) const { return m_nodes[head].slot; }
     /// Nodes in use.
     std::size_t size() const {
         std::size_t freeCount = 0;
@@ -110,7 +113,8 @@ private:
 /// with a stride of a whole row, showed one miss per matrix per voxel with separate arrays); 8 bytes, not
 /// the 16 of 32-bit stamps and an inline O count, so that twice as many voxels share the caches (the 3D
 /// traversal is bound by these reads). O's count (4 bytes, touched only when objects are rasterized) and the
-/// U stamps (2 bytes, read only at opaque voxels) live apart; 8 bytes per (voxel, object) incidence in I.
+/// U stamps (2 bytes, read only at opaque voxels) live apart. A voxel's only id sits in the cell; two or more take
+/// 8 bytes of list node each.
 /// Stamps are 16 bits: a full clear every 65,535 frames.
 template <int D> class DenseStorage {
 public:
@@ -135,16 +139,53 @@ public:
     void setVisited(VoxelKey k, std::uint32_t stamp) { m_cells[k].visited = std::uint16_t(stamp); }
 
     bool hasIds(VoxelKey k) const { return (m_cells[k].head & ~kOpaqueBit) != kNoList; }
-    template <class Fn> void forEachId(VoxelKey k, Fn&& fn) const { m_ids.forEach(listOf(k), fn); }
+    template <class Fn> void forEachId(VoxelKey k, Fn&& fn) const {
+        const std::uint32_t h = m_cells[k].head & ~kOpaqueBit;
+        if (h == kNoList) return;
+        if (h & kInlineBit) {
+            fn(ObjectSlot(h & kValueMask));
+            return;
+        }
+        m_ids.forEach(h, fn);
+    }
+    /// [Limit] o < 2^30 (the slot is stored in the cell's 30 value bits when it is the voxel's only id).
     void addId(VoxelKey k, ObjectSlot o) {
-        std::uint32_t head = listOf(k);
+        const std::uint32_t h = m_cells[k].head & ~kOpaqueBit;
+        if (h == kNoList) {
+            setField(k, kInlineBit | o);
+            ++m_inlineIds;
+            return;
+        }
+        std::uint32_t head = kNone;
+        if (h & kInlineBit) { // a second id: the inline one moves into a list
+            m_ids.add(head, ObjectSlot(h & kValueMask));
+            --m_inlineIds;
+        } else {
+            head = h;
+        }
         m_ids.add(head, o);
-        setList(k, head);
+        setField(k, head);
     }
     void removeId(VoxelKey k, ObjectSlot o) {
-        std::uint32_t head = listOf(k);
+        const std::uint32_t h = m_cells[k].head & ~kOpaqueBit;
+        if (h == kNoList) return;
+        if (h & kInlineBit) {
+            if ((h & kValueMask) == o) {
+                setField(k, kNoList);
+                --m_inlineIds;
+            }
+            return;
+        }
+        std::uint32_t head = h;
         m_ids.remove(head, o);
-        setList(k, head);
+        if (head != kNone && m_ids.isSingle(head)) { // one id left: back into the cell, its node freed
+            const ObjectSlot last = m_ids.front(head);
+            m_ids.remove(head, last);
+            setField(k, kInlineBit | last);
+            ++m_inlineIds;
+            return;
+        }
+        setField(k, head == kNone ? kNoList : head);
     }
 
     /// Called when the frame stamp passes kMaxStamp: every stamp back to "never".
@@ -154,24 +195,23 @@ public:
     }
 
     /// Incidences currently stored in I (for stats and consistency tests).
-    std::size_t idCount() const { return m_ids.size(); }
+    std::size_t idCount() const { return m_ids.size() + m_inlineIds; }
 
 private:
-    // The list head's top bit is O's flag: node indices stay below 2^31 (a pool of 2^31 nodes would
-    // hold 16 GiB), and 0x7FFFFFFF is "no list".
+    // The head field: the top bit is O's flag; below it, kNoList (no id), or the voxel's only id with
+    // kInlineBit set (most voxels of scenes of small objects hold one id: reading it from the cell saves
+    // the list node, a cache miss per voxel that was half of the 3D traversal's time), or the index of
+    // the first node of its list (two ids or more). Node indices and slots stay below 2^30 (a pool of 2^30
+    // nodes holds 8 GiB).
     static constexpr std::uint32_t kOpaqueBit = 0x80000000u;
-    static constexpr std::uint32_t kNoList = 0x7FFFFFFFu;
+    static constexpr std::uint32_t kInlineBit = 0x40000000u;
+    static constexpr std::uint32_t kValueMask = 0x3FFFFFFFu;
+    static constexpr std::uint32_t kNoList = 0x3FFFFFFFu;
 
-    std::uint32_t listOf(VoxelKey k) const {
-        const std::uint32_t h = m_cells[k].head & ~kOpaqueBit;
-        return h == kNoList ? kNone : h;
-    }
-    void setList(VoxelKey k, std::uint32_t head) {
-        m_cells[k].head = (m_cells[k].head & kOpaqueBit) | (head == kNone ? kNoList : head);
-    }
+    void setField(VoxelKey k, std::uint32_t field) { m_cells[k].head = (m_cells[k].head & kOpaqueBit) | field; }
 
     struct Cell {
-        std::uint32_t head = kNoList; // I list head (kNoList: empty), O flag in the top bit
+        std::uint32_t head = kNoList; // I: kNoList, an inline id or a list head; O flag in the top bit
         std::uint16_t occluded = 0;
         std::uint16_t visited = 0;
     };
@@ -180,6 +220,7 @@ private:
     std::vector<std::uint32_t> m_opaque; // O counts
     std::vector<std::uint16_t> m_used;
     SlotListPool m_ids;
+    std::size_t m_inlineIds = 0; // ids stored in cells, not in m_ids
 };
 
 static_assert(VoxelStorage<DenseStorage<2>>);
