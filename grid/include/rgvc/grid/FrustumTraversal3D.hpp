@@ -198,6 +198,11 @@ private:
         if (options.reportEveryVoxel) withIds = n == 32 ? ~0u : (1u << n) - 1;
         withIds &= ~hidden;
         opaqueBits &= ~hidden;
+        // The callback walks each voxel's id list: start every list's first load now, so that the misses
+        // overlap instead of following one another (the list nodes were the traversal's largest cost).
+        if constexpr (requires(const Storage& st) { st.prefetchIds(key); })
+            for (std::uint32_t bits = withIds; bits != 0; bits &= bits - 1)
+                storage.prefetchIds(key + VoxelKey(std::countr_zero(bits) * step));
         for (; withIds != 0; withIds &= withIds - 1) {
             const int i = std::countr_zero(withIds);
             onVoxel(key + VoxelKey(i * step), c + o0 + e1 * i);

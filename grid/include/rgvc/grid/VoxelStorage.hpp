@@ -88,6 +88,7 @@ public:
         }
         return false;
     }
+    void prefetch(std::uint32_t head) const { __builtin_prefetch(&m_nodes[head]); }
     /// Whether the list starting at head (not kNone) holds exactly one node, and that node's slot.
     bool isSingle(std::uint32_t head) const { return m_nodes[head].next == kNone; }
     ObjectSlot front(std::uint32_t head) const { return m_nodes[head].slot; }
@@ -147,6 +148,12 @@ public:
             return;
         }
         m_ids.forEach(h, fn);
+    }
+    /// Starts loading the first list node of voxel k (nothing when it has none or one id), so that a
+    /// caller about to walk the lists of many voxels overlaps their cache misses.
+    void prefetchIds(VoxelKey k) const {
+        const std::uint32_t h = m_cells[k].head & ~kOpaqueBit;
+        if ((h & kInlineBit) == 0 && h != kNoList) m_ids.prefetch(h);
     }
     /// [Limit] o < 2^30 (the slot is stored in the cell's 30 value bits when it is the voxel's only id).
     void addId(VoxelKey k, ObjectSlot o) {
