@@ -86,3 +86,48 @@ TEST_CASE("Raster: 3D fixed cases", "[raster]") {
 }
 
 // ---------------------------------------------------------------------------------------------------
+
+// What RowFootprint relies on: one span per row, rows in strictly increasing linear order, spans inside
+// the grid, and exactly the voxels of forEachTouchedVoxel / forEachInnerVoxel (2D polygons included).
+template <int D> static void checkRows(const Shape<D>& s, const IVec<D>& res, std::uint64_t seed) {
+    const GridGeometry<D> grid(Vec<D>(0.0), 1.0, res);
+    for (bool inner : {false, true}) {
+        std::vector<std::uint32_t> fromRows, fromVoxels;
+        std::int64_t lastRow = -1;
+        std::size_t bad = 0;
+        auto onRow = [&](const IVec<D>& row, std::int32_t x0, std::int32_t x1) {
+            const std::int64_t key = grid.linearIndex(row);
+            bad += row.x != 0 || key <= lastRow || x0 < 0 || x1 >= res.x || x0 > x1;
+            lastRow = key;
+            for (std::int32_t x = x0; x <= x1; ++x) fromRows.push_back(std::uint32_t(key + x));
+        };
+        auto onVoxel = [&](const IVec<D>& v) { fromVoxels.push_back(grid.linearIndex(v)); };
+        if (inner) {
+            forEachInnerRow<D>(s, res, onRow);
+            forEachInnerVoxel<D>(s, res, onVoxel);
+        } else {
+            forEachTouchedRow<D>(s, res, onRow);
+            forEachTouchedVoxel<D>(s, res, onVoxel);
+        }
+        INFO("seed " << seed << (inner ? " inner" : " touched"));
+        CHECK(bad == 0);
+        CHECK(fromRows == fromVoxels);
+    }
+}
+
+TEST_CASE("Raster: row spans (2D and 3D) are ordered, one per row, and equal the voxel sets", "[raster]") {
+    for (std::uint64_t i = 0; i < 400; ++i) {
+        const std::uint64_t seed = 0x5EA5ULL + i;
+        Gen g(seed);
+        IVec3 res(g.irange(1, 12), g.irange(1, 12), g.irange(1, 12));
+        Vec3 c(g.uni(-2, res.x + 2), g.uni(-2, res.y + 2), g.uni(-2, res.z + 2));
+        const double r = g.uni(0.05, 6);
+        checkRows<3>(Ball<3>{c, r}, res, seed);
+        checkRows<3>(Box<3>{c - r * 0.7, c + Vec3(r, 0.5 * r, 0.3 * r)}, res, seed);
+        const IVec2 res2(res.x, res.y);
+        const Vec2 c2(c.x, c.y);
+        checkRows<2>(Ball<2>{c2, r}, res2, seed);
+        checkRows<2>(Box<2>{c2 - r, c2 + 0.5 * r}, res2, seed);
+        checkRows<2>(ConvexPolygon{{c2, c2 + Vec2{r, 0.3}, c2 + Vec2{0.2, r}}}, res2, seed);
+    }
+}

@@ -7,6 +7,7 @@
 #include "rgvc/grid/FrustumTraversal2D.hpp"
 #include "rgvc/grid/FrustumTraversal3D.hpp"
 #include "rgvc/grid/OcclusionBuffer3D.hpp"
+#include "rgvc/grid/RowFootprint.hpp"
 #include "rgvc/grid/ViewFrustum.hpp"
 #include "rgvc/grid/ViewWedge.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
@@ -162,8 +163,10 @@ template <int D> struct Culler<D>::Impl {
     std::vector<ObjectSlot> pvsSlots;
     std::vector<std::pair<double, ObjectSlot>> bufferOrder;
     OcclusionBuffer3D occlusionBuffer;
-    // Footprint buffers reused by every move (no allocation per update after warm-up).
-    std::vector<VoxelKey> oldTouched, oldInner, newTouched, newInner;
+    // Per slot: the footprint written into I and O while the object is there (Static, Tracked), empty
+    // otherwise. A move rasterizes only its new placement; a removal takes out exactly what was put in.
+    std::vector<RowFootprint> footprints;
+    RowFootprint nextFootprint; // reused by every move (no allocation per update after warm-up)
 
     Impl(const GridGeometry<D>& g, const CullerOptions& o)
         : grid(g), options(o), storage(g), tbvs(g.resolution()), expiring(std::size_t(o.tbvMaxFrames) + 2) {
@@ -184,68 +187,33 @@ template <int D> struct Culler<D>::Impl {
         return p;
     }
 
+    /// Puts the object at its stored placement into I and O (sign > 0), or takes it out (sign < 0).
     void rasterize(ObjectSlot slot, int sign) {
-        const Placement& p = records[slot].at;
-        const IVec<D> res = grid.resolution();
+        RowFootprint& f = footprints[slot];
+        if (sign > 0) {
+            buildFootprint(records[slot].at, f);
+            writes += f.write(storage, slot, +1);
+        } else {
+            writes += f.write(storage, slot, -1);
+            f.release();
+        }
+    }
+
+    void buildFootprint(const Placement& p, RowFootprint& f) const {
         // The slack covers the world-to-voxel rounding of the object's coordinates (and the grid's).
-        const double slack = grid.conversionSlack(p.worldMagnitude);
-        forEachTouchedVoxel<D>(
-            p.local, res,
-            [&](const IVec<D>& v) {
-                const VoxelKey key = grid.linearIndex(v);
-                if (sign > 0) storage.addId(key, slot);
-                else storage.removeId(key, slot);
-                ++writes;
-            },
-            slack);
-        forEachInnerVoxel<D>(
-            p.local, res,
-            [&](const IVec<D>& v) {
-                storage.addOpaque(grid.linearIndex(v), sign);
-                ++writes;
-            },
-            slack);
+        f.build<D>(p.local, grid, grid.conversionSlack(p.worldMagnitude));
     }
 
-    /// The footprint of a placement: its touched (I) and inner (O) voxels, in increasing key order
-    /// (the rasterizers emit rows in increasing order, x fastest, as linearIndex counts).
-    void footprint(const Placement& p, std::vector<VoxelKey>& touched, std::vector<VoxelKey>& inner) const {
-        touched.clear();
-        inner.clear();
-        const IVec<D> res = grid.resolution();
-        const double slack = grid.conversionSlack(p.worldMagnitude);
-        forEachTouchedVoxel<D>(p.local, res, [&](const IVec<D>& v) { touched.push_back(grid.linearIndex(v)); }, slack);
-        forEachInnerVoxel<D>(p.local, res, [&](const IVec<D>& v) { inner.push_back(grid.linearIndex(v)); }, slack);
-    }
-
-    /// Moves a rasterized object by writing only the difference between its old and new footprints: a
-    /// sphere that moves a fraction of a voxel changes a thin shell of its footprint, not all of it
-    /// (profiling the moving-spheres benchmark showed remove-all/add-all updates as its largest cost).
+    /// Moves a rasterized object by writing only the difference between its old (cached) and new
+    /// footprints: a sphere that moves a fraction of a voxel changes a thin shell of its footprint, or
+    /// nothing at all (profiling the moving-spheres benchmark showed remove-all/add-all updates, and then
+    /// per-voxel footprint lists, as its largest costs).
     void moveRasterized(ObjectSlot slot, const Placement& p) {
         if (&p == &records[slot].at) return; // the stored placement: already rasterized
-        footprint(records[slot].at, oldTouched, oldInner);
-        footprint(p, newTouched, newInner);
+        buildFootprint(p, nextFootprint);
+        writes += footprints[slot].moveTo(storage, slot, nextFootprint);
         records[slot].at = p;
-        diff(oldTouched, newTouched, [&](VoxelKey k) { storage.removeId(k, slot); },
-             [&](VoxelKey k) { storage.addId(k, slot); });
-        diff(oldInner, newInner, [&](VoxelKey k) { storage.addOpaque(k, -1); },
-             [&](VoxelKey k) { storage.addOpaque(k, +1); });
         syncOutside(slot);
-    }
-
-    /// Calls gone(k) for keys only in `before` and came(k) for keys only in `after` (both sorted).
-    template <class Gone, class Came>
-    void diff(const std::vector<VoxelKey>& before, const std::vector<VoxelKey>& after, Gone&& gone, Came&& came) {
-        std::size_t i = 0, j = 0;
-        while (i < before.size() || j < after.size()) {
-            if (j == after.size() || (i < before.size() && before[i] < after[j])) gone(before[i++]);
-            else if (i == before.size() || after[j] < before[i]) came(after[j++]);
-            else {
-                ++i, ++j;
-                continue;
-            }
-            ++writes;
-        }
     }
 
     /// Objects held in O and I that reach outside the grid are also tested against the view region.
@@ -737,6 +705,7 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
         m.pvsStamp.push_back(0);
         m.statePos.push_back(kNone);
         m.outsidePos.push_back(kNone);
+        m.footprints.emplace_back();
     }
     typename Impl::Record& r = m.records[slot];
     r = typename Impl::Record{};

@@ -126,6 +126,14 @@ void forEachTouchedVoxel(const Shape<D>& local, const IVec<D>& resolution, Fn&& 
 template <int D, class Fn>
 void forEachInnerVoxel(const Shape<D>& local, const IVec<D>& resolution, Fn&& fn, double slack = kConservativeSlack);
 
+/// The same sets as spans: calls fn(IVec<D> row, x0, x1) once per row (row.x = 0) whose voxels
+/// x0..x1 (x0 <= x1) are touched / inner, rows in increasing linear order. What the voxel functions
+/// visit is exactly the union of these spans: they are built on them. Never allocates.
+template <int D, class RowFn>
+void forEachTouchedRow(const Shape<D>& local, const IVec<D>& resolution, RowFn&& fn, double slack = kConservativeSlack);
+template <int D, class RowFn>
+void forEachInnerRow(const Shape<D>& local, const IVec<D>& resolution, RowFn&& fn, double slack = kConservativeSlack);
+
 /// True when the closed shape (voxel units) has points outside the closed grid box [0, resolution].
 template <int D> bool extendsOutsideGrid(const Shape<D>& local, const IVec<D>& resolution) {
     Box<D> b = boundsOf<D>(local);
@@ -138,54 +146,74 @@ template <int D> bool extendsOutsideGrid(const Shape<D>& local, const IVec<D>& r
 
 namespace raster_detail {
 
-template <int D, bool kInner, class Fn>
-void rasterize(const Shape<D>& local, const IVec<D>& res, Fn&& fn, double slack) {
+/// The rows of a ball's footprint, with squares of plain lengths (no per-row scaling; see rasterize).
+/// A voxel row (all coordinates but x fixed) meets the ball grown to rr iff the nearest distances along
+/// the other axes satisfy sum d_a^2 <= rr^2 (touched), and then its x chord has half-width
+/// w = sqrt(rr^2 - sum d_a^2); inner rows take the farthest distances instead (the whole row cross-section
+/// [y, y+1] x [z, z+1] inside), after which the x range inside the chord is the 1D rule. The squared budget
+/// left over by the outer axes is computed once per outer row (once per z, not once per (y, z)), so a row
+/// costs one square, one subtraction and one sqrt.
+template <int D, int A, bool kInner, class RowFn>
+void ballRows(const Vec<D>& c, double budget, const IVec<D>& lo, const IVec<D>& hi, IVec<D>& row, RowFn& rowFn) {
+    for (row[A] = lo[A]; row[A] <= hi[A]; ++row[A]) {
+        const double d = kInner ? farthestDistance(c[A], row[A]) : nearestDistance(c[A], row[A]);
+        const double left = budget - d * d; // -inf when d*d overflows: the row misses (d > rr)
+        if (left < 0) continue;
+        if constexpr (A == 1) rowFn(row, std::sqrt(left));
+        else ballRows<D, A - 1, kInner>(c, left, lo, hi, row, rowFn);
+    }
+}
+
+/// Calls rowFn(IVec<D> row, x0, x1) (row.x = 0) for the non-empty x span of every row of the footprint,
+/// rows in increasing linear order. Each row holds one span: every shape here is convex.
+template <int D, bool kInner, class RowFn>
+void rasterize(const Shape<D>& local, const IVec<D>& res, RowFn&& rowFn, double slack) {
     Box<D> bounds = boundsOf<D>(local);
     IVec<D> lo, hi;
     for (int i = 0; i < D; ++i) touchedRange(bounds.min[i], bounds.max[i], res[i], lo[i], hi[i], slack);
     for (int i = 0; i < D; ++i)
         if (lo[i] > hi[i]) return;
 
-    auto emit = [&](const IVec<D>& row, std::int32_t x0, std::int32_t x1) {
-        IVec<D> v = row;
-        for (std::int32_t x = x0; x <= x1; ++x) {
-            v.x = x;
-            fn(v);
-        }
-    };
-
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
             if constexpr (std::is_same_v<T, Box<D>>) {
-                std::int32_t x0, x1;
                 IVec<D> rlo = lo, rhi = hi;
                 if constexpr (kInner) {
                     for (int i = 0; i < D; ++i) innerRange(s.min[i], s.max[i], res[i], rlo[i], rhi[i], slack);
                     for (int i = 0; i < D; ++i)
                         if (rlo[i] > rhi[i]) return;
                 }
-                x0 = rlo.x;
-                x1 = rhi.x;
                 forEachRow<D>(
                     rlo, rhi,
                     [&](const IVec<D>&, std::int32_t& a, std::int32_t& b) {
-                        a = x0;
-                        b = x1;
+                        a = rlo.x;
+                        b = rhi.x;
                         return true;
                     },
-                    emit);
+                    rowFn);
             } else if constexpr (std::is_same_v<T, Ball<D>>) {
-                // Per row, the remaining squared radius after the other axes' nearest (touched) or
-                // farthest (inner) distances, then the x span from the 1D rules.
                 const double r = s.radius;
+                const double rr = kInner ? (r - slack) : (r + slack);
+                if (rr <= 0) return;
+                auto chord = [&](const IVec<D>& row, double w) {
+                    std::int32_t a, b;
+                    if constexpr (kInner) innerRange(s.center.x - w, s.center.x + w, res.x, a, b, slack);
+                    else touchedRange(s.center.x - w, s.center.x + w, res.x, a, b, slack);
+                    if (a <= b) rowFn(row, a, b);
+                };
+                if (rr < 1e150) {
+                    // rr^2 < 1e300 is finite, so every budget is finite or -inf, never NaN.
+                    IVec<D> row = lo;
+                    row.x = 0;
+                    ballRows<D, D - 1, kInner>(s.center, rr * rr, lo, hi, row, chord);
+                    return;
+                }
+                // Huge balls: squares are taken after scaling by the largest length, so that a finite ball
+                // of radius 1e200 does not overflow to inf - inf = NaN.
                 forEachRow<D>(
                     lo, hi,
                     [&](const IVec<D>& row, std::int32_t& a, std::int32_t& b) {
-                        const double rr = kInner ? (r - slack) : (r + slack);
-                        if (rr <= 0) return false;
-                        // Squares are taken after scaling by the largest length, so that a finite ball
-                        // of radius 1e200 does not overflow to inf - inf = NaN.
                         double dist[D > 1 ? D - 1 : 1];
                         double scale = rr;
                         for (int i = 1; i < D; ++i) {
@@ -203,7 +231,7 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, Fn&& fn, double slack)
                             touchedRange(s.center.x - w, s.center.x + w, res.x, a, b, slack);
                         return true;
                     },
-                    emit);
+                    rowFn);
             } else if constexpr (D == 2 && std::is_same_v<T, ConvexPolygon>) {
                 forEachRow<2>(
                     lo, hi,
@@ -229,21 +257,41 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, Fn&& fn, double slack)
                         }
                         return true;
                     },
-                    emit);
+                    rowFn);
             }
         },
         local);
+}
+
+template <int D, class Fn> auto voxelsOfRows(Fn& fn) {
+    return [&fn](const IVec<D>& row, std::int32_t x0, std::int32_t x1) {
+        IVec<D> v = row;
+        for (std::int32_t x = x0; x <= x1; ++x) {
+            v.x = x;
+            fn(v);
+        }
+    };
 }
 
 } // namespace raster_detail
 
 template <int D, class Fn>
 void forEachTouchedVoxel(const Shape<D>& local, const IVec<D>& resolution, Fn&& fn, double slack) {
-    raster_detail::rasterize<D, false>(local, resolution, fn, slack);
+    raster_detail::rasterize<D, false>(local, resolution, raster_detail::voxelsOfRows<D>(fn), slack);
 }
 
 template <int D, class Fn>
 void forEachInnerVoxel(const Shape<D>& local, const IVec<D>& resolution, Fn&& fn, double slack) {
+    raster_detail::rasterize<D, true>(local, resolution, raster_detail::voxelsOfRows<D>(fn), slack);
+}
+
+template <int D, class RowFn>
+void forEachTouchedRow(const Shape<D>& local, const IVec<D>& resolution, RowFn&& fn, double slack) {
+    raster_detail::rasterize<D, false>(local, resolution, fn, slack);
+}
+
+template <int D, class RowFn>
+void forEachInnerRow(const Shape<D>& local, const IVec<D>& resolution, RowFn&& fn, double slack) {
     raster_detail::rasterize<D, true>(local, resolution, fn, slack);
 }
 
