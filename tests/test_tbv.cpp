@@ -383,9 +383,12 @@ TEST_CASE("tbv: 3D shell (2 of 3 projections) and filled box match brute force, 
                         CHECK(got.size() == expectedTotal);
                         ok = false;
                     }
-                    // holdsAt may say true where two different regions' projections meet (conservative);
-                    // it must never say false where a slot is held.
-                    if (!got.empty() && !t.holdsAt(v)) ok = false;
+                    // holdsAt is exact: some slot holds the voxel iff collectAt found one.
+                    if (t.holdsAt(v) != !got.empty()) {
+                        INFO("voxel (" << x << ", " << y << ", " << z << ") holdsAt disagrees with collectAt");
+                        CHECK(false);
+                        ok = false;
+                    }
                 }
         REQUIRE(ok);
         for (int i = 0; i < k; ++i) written -= t.erase(ObjectSlot(i * 11 + 2), regions[std::size_t(i)], mode);
@@ -397,19 +400,136 @@ TEST_CASE("tbv: 3D shell (2 of 3 projections) and filled box match brute force, 
     CHECK(shellVoxels > 10000); // the regions did reach the grids
 }
 
-TEST_CASE("tbv: 3D boundary writes outlines (12 per box side), not faces", "[tbv]") {
-    // The point of the projections (§5.2): a box of side n costs O(n) writes, not O(n^2).
+TEST_CASE("tbv: 3D T writes one node per brick its discretization reaches", "[tbv]") {
+    // Boundary and Filled cost one list node per 8^3 brick the shell (box) reaches, not per voxel or per
+    // plane cell: the box [22, 42]^3 spans bricks 2..5 on each axis (64), and its shell misses the 8
+    // bricks 3..4 on every axis, which lie strictly inside it.
     TbvMatrix<3> t({64, 64, 64});
     const TbvRegion<3> r{{32.5, 32.5, 32.5}, 9.9}; // voxel box [22, 42]^3: n = 21
     const std::size_t n = 21;
-    CHECK(t.insert(1, r, TbvDiscretization::Boundary) == 3 * (2 * n + 2 * (n - 2)));
+    CHECK(t.insert(1, r, TbvDiscretization::Boundary) == 64 - 8);
+    CHECK(t.incidences() == 64 - 8);
+    CHECK(t.erase(1, r, TbvDiscretization::Boundary) == 64 - 8);
     TbvMatrix<3> f({64, 64, 64});
-    CHECK(f.insert(1, r, TbvDiscretization::Filled) == 3 * n * n);
+    CHECK(f.insert(1, r, TbvDiscretization::Filled) == 64);
     // Shell: the shell's voxels themselves, n^3 - (n - 2)^3.
     TbvMatrix<3> sh({64, 64, 64});
     CHECK(sh.insert(1, r, TbvDiscretization::Shell) == n * n * n - (n - 2) * (n - 2) * (n - 2));
     CHECK(sh.erase(1, r, TbvDiscretization::Shell) == n * n * n - (n - 2) * (n - 2) * (n - 2));
     CHECK(sh.incidences() == 0);
+}
+
+namespace {
+
+// The model of a 3D T: per live slot its voxel box (computed by tbvVoxelBox3D, checked against brute
+// force above) and mode; a voxel holds the slot iff it is in the box and, unless Filled, on its shell.
+struct Model3D {
+    struct Entry {
+        ObjectSlot slot;
+        IVec3 lo, hi;
+        TbvDiscretization mode;
+        bool inGrid;
+        TbvRegion<3> region;
+    };
+    std::vector<Entry> live;
+    std::vector<ObjectSlot> holding(const IVec3& v) const {
+        std::vector<ObjectSlot> out;
+        for (const Entry& e : live) {
+            bool in = e.inGrid, bound = e.mode == TbvDiscretization::Filled;
+            for (int a = 0; a < 3; ++a) {
+                in = in && v[a] >= e.lo[a] && v[a] <= e.hi[a];
+                bound = bound || v[a] == e.lo[a] || v[a] == e.hi[a];
+            }
+            if (in && bound) out.push_back(e.slot);
+        }
+        std::sort(out.begin(), out.end());
+        return out;
+    }
+};
+
+} // namespace
+
+TEST_CASE("tbv: 3D bricks match a model through random inserts, erases and lookups (stale bitmaps)", "[tbv]") {
+    // The bitmaps of a brick go stale on every erase and are rebuilt by the first lookup that meets a
+    // stale bit, so lookups are interleaved with the updates at random voxels (sometimes every voxel),
+    // many overlapping boxes share bricks, grids are not multiples of 8, and slots are reused.
+    const std::uint64_t seed = 606;
+    std::mt19937_64 rng(seed);
+    std::size_t positives = 0, lookups = 0;
+    for (int iter = 0; iter < 200; ++iter) {
+        const IVec3 res{sr::uniformInt(rng, 1, 40), sr::uniformInt(rng, 1, 30), sr::uniformInt(rng, 1, 40)};
+        INFO("seed " << seed << " iteration " << iter << " grid " << res.x << "x" << res.y << "x" << res.z);
+        TbvMatrix<3> t(res);
+        Model3D model;
+        std::vector<ObjectSlot> got;
+        std::size_t written = 0;
+        const int ops = sr::uniformInt(rng, 10, 120);
+        for (int op = 0; op < ops; ++op) {
+            CAPTURE(op);
+            const bool doInsert = model.live.empty() || (model.live.size() < 40 && sr::chance(rng, 0.6));
+            if (doInsert) {
+                Model3D::Entry e;
+                e.slot = ObjectSlot(sr::uniformInt(rng, 0, 63));
+                bool used = false;
+                for (const auto& l : model.live) used = used || l.slot == e.slot;
+                if (used) continue;
+                e.region = randomCube(rng, res);
+                // Mostly small boxes, as the culler makes them, so that many share bricks.
+                if (sr::chance(rng, 0.7)) e.region.radius = std::min(e.region.radius, 5.0);
+                e.mode = sr::chance(rng, 0.25) ? TbvDiscretization::Filled : TbvDiscretization::Boundary;
+                e.inGrid = tbvVoxelBox3D(e.region, res, e.lo, e.hi);
+                CAPTURE(e.slot, describe(e.region), int(e.mode));
+                written += t.insert(e.slot, e.region, e.mode);
+                model.live.push_back(e);
+            } else {
+                const std::size_t i = std::size_t(sr::uniformInt(rng, 0, int(model.live.size()) - 1));
+                const Model3D::Entry e = model.live[i];
+                written -= t.erase(e.slot, e.region, e.mode);
+                model.live.erase(model.live.begin() + std::ptrdiff_t(i));
+            }
+            CHECK(t.incidences() == written);
+            CHECK(t.liveRegions() == model.live.size());
+            auto check = [&](const IVec3& v) {
+                // holdsAt first: it must be exact on a stale brick too, before collectAt rebuilds it.
+                const std::vector<ObjectSlot> expected = model.holding(v);
+                const bool holds = t.holdsAt(v);
+                got.clear();
+                t.collectAt(v, got);
+                std::sort(got.begin(), got.end());
+                ++lookups;
+                positives += !expected.empty();
+                if (got != expected || holds != !expected.empty()) {
+                    INFO("voxel (" << v.x << ", " << v.y << ", " << v.z << ") collected " << got.size() << " slots, expected "
+                                   << expected.size() << "; holdsAt " << holds);
+                    CHECK(false);
+                    return false;
+                }
+                return true;
+            };
+            bool ok = true;
+            if (op % 7 == 6) {
+                for (std::int32_t z = 0; z < res.z && ok; ++z)
+                    for (std::int32_t y = 0; y < res.y && ok; ++y)
+                        for (std::int32_t x = 0; x < res.x && ok; ++x) ok = check({x, y, z});
+            } else {
+                for (int q = 0; q < 200 && ok; ++q)
+                    ok = check({sr::uniformInt(rng, 0, res.x - 1), sr::uniformInt(rng, 0, res.y - 1), sr::uniformInt(rng, 0, res.z - 1)});
+            }
+            REQUIRE(ok);
+        }
+        for (const auto& e : model.live) written -= t.erase(e.slot, e.region, e.mode);
+        CHECK(written == 0);
+        CHECK(t.incidences() == 0);
+        for (int q = 0; q < 100; ++q) {
+            const IVec3 v{sr::uniformInt(rng, 0, res.x - 1), sr::uniformInt(rng, 0, res.y - 1), sr::uniformInt(rng, 0, res.z - 1)};
+            got.clear();
+            t.collectAt(v, got);
+            CHECK(got.empty());
+            CHECK_FALSE(t.holdsAt(v));
+        }
+    }
+    CHECK(positives > 20000); // the lookups did meet held voxels, not only empty space
+    CHECK(lookups > 200000);
 }
 
 TEST_CASE("tbv: the 2D ring and 3D shell stop every segment from an outside camera to a point inside", "[tbv]") {

@@ -2,8 +2,8 @@
 // proportional to its own cells.
 //
 // Why not SlotListPool (I's lists): removing one slot from a singly linked list walks the list, and T
-// lists get long where many TBVs overlap (clustered objects; in 3D, a projection plane cell collects
-// every TBV whose outline projects onto it). Profiling the moving-spheres benchmark showed those walks
+// lists get long where many TBVs overlap (clustered objects; in 3D, a brick's list holds every TBV whose
+// shell reaches into its 8^3 voxels). Profiling the moving-spheres benchmark showed those walks
 // as 90% of the frame. Here every node is doubly linked in its cell's list and also chained to the other
 // nodes of its slot, so erasing a TBV unlinks its nodes directly, whatever the lists' lengths.
 #pragma once
