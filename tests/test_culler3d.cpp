@@ -720,6 +720,68 @@ TEST_CASE("culler3d: the moving-spheres benchmark scene, small", "[culler3d]") {
     REQUIRE(tCoarse.misses == 0);
 }
 
+TEST_CASE("culler3d: adaptive caps: frames without caps stay conservative, and a wall switches them on", "[culler3d]") {
+    // CullerOptions::adaptiveCaps (default on): frames after unproductive caps start without them.
+    SECTION("moving spheres: many deferred frames, every frame checked") {
+        ref::MovingSpheres3D b = ref::movingSpheres3D(11, 400, {50, 30, 50}, 4);
+        Culler3D culler(b.grid);
+        for (const ObjectDesc<3>& o : b.objects) culler.addObject(o);
+        Tally t;
+        int deferred = 0;
+        const int frames = 40;
+        for (int f = 0; f < frames; ++f) {
+            const Camera3 cam = ref::movingSpheresCamera(b, f, frames);
+            checkFrame(culler, b.objects, cam, "adaptive caps, moving spheres, frame " + std::to_string(f), t);
+            deferred += culler.lastResult().stats.capsDeferred;
+            ref::stepMovingSpheres(b);
+            for (const ObjectDesc<3>& o : b.objects) culler.updateObject(o.id, o.shape);
+        }
+        t.print("adaptive caps, moving spheres");
+        std::printf("[culler3d] adaptive caps: %d of %d frames started without caps\n", deferred, frames);
+        REQUIRE(t.misses == 0);
+        CHECK(deferred >= frames / 2);
+    }
+    SECTION("a wall met in a deferred frame") {
+        // Tiny spheres everywhere (no occlusion: the caps do not pay), and a static wall at z 40..44 over
+        // x >= 20, which covers most of the view looking along +z from (32.5, 16.5, 5.5).
+        GridGeometry3 grid({0, 0, 0}, 1.0, {64, 32, 64});
+        Culler3D culler(grid);
+        std::vector<ObjectDesc<3>> objects;
+        objects.push_back({.id = 0, .shape = Box<3>{{20, 0, 40}, {64, 32, 44}}, .isStatic = true});
+        std::mt19937_64 rng(5150);
+        for (ObjectId id = 1; id <= 300; ++id) {
+            const Vec3 c{sd::uniform(rng, 1, 63), sd::uniform(rng, 1, 31), sd::uniform(rng, 1, 63)};
+            objects.push_back({.id = id, .shape = Ball<3>{c, 0.3}, .isStatic = true});
+        }
+        for (const ObjectDesc<3>& o : objects) culler.addObject(o);
+        Tally t;
+        const Camera3 away = makeCamera({32.5, 16.5, 5.5}, {-1, 0, 0.1}, 60);
+        const Camera3 wall = makeCamera({32.5, 16.5, 5.5}, {0, 0, 1}, 60);
+        // The schedule: caps, 1 frame without, caps, 2 frames without, ...: frames 1, 3 and 4 start without.
+        std::vector<bool> deferred;
+        for (int f = 0; f < 4; ++f) {
+            checkFrame(culler, objects, away, "adaptive caps, looking away, frame " + std::to_string(f), t);
+            deferred.push_back(culler.lastResult().stats.capsDeferred);
+        }
+        CHECK(deferred == std::vector<bool>{false, true, false, true});
+        checkFrame(culler, objects, wall, "adaptive caps, the wall in a deferred frame", t);
+        const CullStats met = culler.lastResult().stats;
+        CHECK(met.capsDeferred);
+        CHECK(met.capsFromShell >= 35); // the wall's first shell is 35 voxels away
+        CHECK(met.capsFromShell <= 37);
+        CHECK(met.voxelsOccluded > 0); // the caps built from the wall hid what lies behind it
+        checkFrame(culler, objects, wall, "adaptive caps, the frame after the wall", t);
+        const CullStats after = culler.lastResult().stats;
+        CHECK_FALSE(after.capsDeferred); // the wall reset the schedule
+        CHECK(after.voxelsOccluded >= met.voxelsOccluded);
+        std::printf("[culler3d] adaptive caps, wall: deferred frame caps from shell %u, occluded %llu of %llu visited; "
+                    "next frame occluded %llu of %llu\n",
+                    met.capsFromShell, (unsigned long long)met.voxelsOccluded, (unsigned long long)met.voxelsVisited,
+                    (unsigned long long)after.voxelsOccluded, (unsigned long long)after.voxelsVisited);
+        REQUIRE(t.misses == 0);
+    }
+}
+
 TEST_CASE("culler3d: invalid input throws InvalidInput and changes nothing", "[culler3d]") {
     GridGeometry3 grid({0, 0, 0}, 1.0, {32, 32, 32});
     Culler3D culler(grid);

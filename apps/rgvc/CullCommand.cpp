@@ -45,7 +45,7 @@ using Clock = std::chrono::steady_clock;
 
 const char* const kCullUsage =
     "usage: rgvc cull SCENE.json [--frames N] [--dump-objects] [--no-occlusion] [--no-extension]\n"
-    "                 [--no-tbv] [--filled-tbv] [--buffer-rows R]\n"
+    "                 [--no-tbv] [--filled-tbv] [--caps-every-frame] [--buffer-rows R]\n"
     "\n"
     "Runs N frames of a scene file (the format is described in the project README) and prints one\n"
     "JSON object per frame on stdout:\n"
@@ -60,6 +60,7 @@ const char* const kCullUsage =
     "  --no-extension   occlusion without occluder extension\n"
     "  --no-tbv         no temporal bounding volumes: every moving object re-placed every frame\n"
     "  --filled-tbv     TBVs written as filled regions instead of boundaries\n"
+    "  --caps-every-frame  3D: grid caps on every frame (default: skipped while they do not pay)\n"
     "  --buffer-rows R  3D: rows of the occlusion buffer that refines the grid's PVS, 0..2048\n"
     "                   (default 64; 0 turns it off)\n"
     "  -h, --help       this text\n"
@@ -69,7 +70,8 @@ const char* const kCullUsage =
     "occluders_extended, occluder_voxels, shadows, voxels_marked_occluded, early_termination,\n"
     "occlusion_skipped, fallback, objects_outside_grid, placement_queries, tracked_objects,\n"
     "hidden_objects, tbvs_created, tbvs_renewed, tbvs_revealed, tbvs_refused, tbvs_held, camera_jump,\n"
-    "speed_violations, grid_writes, tbv_lookups_skipped, buffer_tested, buffer_hidden, buffer_ms;\n"
+    "speed_violations, grid_writes, tbv_lookups_skipped, caps_deferred, caps_from_shell, buffer_tested,\n"
+    "buffer_hidden, buffer_ms;\n"
     "frame 0 adds setup_ms.\n"
     "\n"
     "Exit status: 0 success; 2 bad input (one line \"FILE: FIELD: PROBLEM\" on stderr) or bad usage\n"
@@ -123,6 +125,8 @@ CullArgs parseArgs(int argc, char** argv) {
                 a.options.temporalBoundingVolumes = false;
             } else if (arg == "--filled-tbv") {
                 a.options.tbvDiscretization = TbvDiscretization::Filled;
+            } else if (arg == "--caps-every-frame") {
+                a.options.adaptiveCaps = false;
             } else if (arg == "--buffer-rows") {
                 if (i + 1 >= argc) throw UsageError("--buffer-rows: missing value");
                 const std::string v = argv[++i];
@@ -167,6 +171,8 @@ ojson statsJson(const CullStats& s) {
     j["occlusion_skipped"] = s.occlusionSkipped;
     j["fallback"] = toString(s.fallback);
     j["objects_outside_grid"] = s.objectsOutsideGrid;
+    j["caps_deferred"] = s.capsDeferred;
+    j["caps_from_shell"] = s.capsFromShell;
     j["buffer_tested"] = s.bufferTested;
     j["buffer_hidden"] = s.bufferHidden;
     j["buffer_ms"] = s.bufferMs;

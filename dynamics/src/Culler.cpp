@@ -48,8 +48,8 @@ template <> struct CullerTraits<2> {
     /// reportEveryVoxel: the 2D traversal reports every visited voxel not in H anyway.
     template <class OnVoxel>
     static void traverse(Traversal& t, const GridGeometry2& grid, DenseStorage<2>& storage, const View& view,
-                         std::uint32_t stamp, const CullerOptions& options, bool /*reportEveryVoxel*/, CullStats& st,
-                         OnVoxel&& onVoxel) {
+                         std::uint32_t stamp, const CullerOptions& options, bool /*reportEveryVoxel*/,
+                         bool /*deferCaps*/, CullStats& st, OnVoxel&& onVoxel) {
         TraversalOptions2D topt;
         topt.occlusion = options.occlusion;
         topt.extension = options.occluderExtension;
@@ -72,9 +72,10 @@ template <> struct CullerTraits<3> {
     static void checkGrid(const GridGeometry3&) {}
     template <class OnVoxel>
     static void traverse(Traversal& t, const GridGeometry3& grid, DenseStorage<3>& storage, const View& view,
-                         std::uint32_t stamp, const CullerOptions& options, bool reportEveryVoxel, CullStats& st,
-                         OnVoxel&& onVoxel) {
+                         std::uint32_t stamp, const CullerOptions& options, bool reportEveryVoxel, bool deferCaps,
+                         CullStats& st, OnVoxel&& onVoxel) {
         TraversalOptions3D topt;
+        topt.deferCaps = deferCaps;
         topt.occlusion = options.occlusion;
         topt.exponentialCaps = options.occluderExtension;
         topt.reportEveryVoxel = reportEveryVoxel;
@@ -88,6 +89,8 @@ template <> struct CullerTraits<3> {
         st.voxelsMarkedOccluded = ts.voxelsOccluded;
         st.earlyTermination = ts.earlyTermination;
         st.occlusionSkipped = ts.opaqueVisited == 0;
+        st.capsDeferred = deferCaps;
+        st.capsFromShell = ts.capsFromShell;
     }
 };
 
@@ -159,6 +162,8 @@ template <int D> struct Culler<D>::Impl {
     std::uint64_t writes = 0;
     std::vector<ObjectSlot> revealScratch;
     Placement fetched; // the last placement a query returned
+    // CullerOptions::adaptiveCaps (3D): frames still to start without caps, and the next skip's length.
+    std::uint32_t capsSkip = 0, capsBackoff = 1;
     // The grid PVS's slots in the order added, and the occlusion buffer that refines it (3D).
     std::vector<ObjectSlot> pvsSlots;
     std::vector<std::pair<double, ObjectSlot>> bufferOrder;
@@ -528,6 +533,22 @@ template <int D> struct Culler<D>::Impl {
         pvsSlots.push_back(slot);
     }
 
+    /// CullerOptions::adaptiveCaps: after a frame, how many of the next frames start without caps.
+    void scheduleCaps(const CullStats& st) {
+        if (st.capsDeferred) {
+            --capsSkip;
+            if (st.capsFromShell != 0) capsSkip = 0, capsBackoff = 1; // a wall: caps every frame again
+            return;
+        }
+        const bool paid = st.earlyTermination || st.voxelsOccluded * 10 >= st.voxelsVisited;
+        if (paid) {
+            capsBackoff = 1;
+        } else {
+            capsSkip = capsBackoff;
+            capsBackoff = std::min<std::uint32_t>(2 * capsBackoff, 8);
+        }
+    }
+
     /// The occlusion buffer's pass over the grid's PVS (OcclusionBuffer3D.hpp): nearest first, each object
     /// with a current placement is tested against the image of the nearer ones kept, and drawn into it when
     /// it stays. Shapes are grown (tests) or shrunk (drawing) by their conversion slack and the camera's.
@@ -601,7 +622,8 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
 
     if (cameraIn) {
         st.tbvLookupsSkipped = hidden.empty();
-        Traits::traverse(traversal, grid, storage, view, frame, options, !hidden.empty(), st,
+        const bool deferCaps = D == 3 && options.adaptiveCaps && options.occlusion && capsSkip > 0;
+        Traits::traverse(traversal, grid, storage, view, frame, options, !hidden.empty(), deferCaps, st,
                          [&](VoxelKey key, const IVec<D>& v) {
             if (tbvs.liveRegions() != 0) {
                 revealScratch.clear();
@@ -610,6 +632,7 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
             }
             storage.forEachId(key, [&](ObjectSlot slot) { addToPvs(slot); });
         });
+        if (D == 3 && options.adaptiveCaps && options.occlusion) scheduleCaps(st);
         // Objects reaching outside the grid may be seen through the part the grid does not hold: they are
         // tested against the view region only.
         for (std::size_t i = 0; i < outside.size(); ++i) {

@@ -41,6 +41,11 @@ struct TraversalOptions3D {
     /// Call onVoxel for every visited voxel not in H, not only for those holding ids (the culler needs
     /// this while TBVs exist: a TBV is revealed by any visited, non-occluded voxel of T, ids or not).
     bool reportEveryVoxel = false;
+    /// Start the frame without caps (view-frustum traversal, opaque voxels still recorded) and switch them
+    /// on for the rest of the frame after the first shell that is at least half opaque (a wall), building
+    /// that shell's cap from its opaque voxels. For scenes whose caps hide little (the culler decides, see
+    /// CullerOptions::adaptiveCaps): the caps' bookkeeping is then most of the traversal's cost.
+    bool deferCaps = false;
 };
 
 struct TraversalStats3D {
@@ -51,6 +56,8 @@ struct TraversalStats3D {
     std::uint64_t capFaces = 0;       ///< face bitmaps turned into summed-area tables
     std::uint64_t capVoxels = 0;      ///< voxels in those tables
     bool earlyTermination = false;
+    /// With deferCaps: the first shell tested against caps (0: caps never switched on this frame).
+    std::uint32_t capsFromShell = 0;
 };
 
 template <VoxelStorage Storage> class FrustumTraversal3D {
@@ -70,6 +77,9 @@ public:
         std::int32_t kMax = 0;
         for (int a = 0; a < 3; ++a) kMax = std::max(kMax, std::max(c[a], res[a] - 1 - c[a]));
         m_caps.beginFrame(kMax);
+        // Caps for this shell on (the normal case) or deferred until a wall shows up (options.deferCaps).
+        bool caps = options.occlusion && !options.deferCaps;
+        m_capsOn = caps;
         // Key steps along each axis: a row of a face is walked by adding one of them to the key.
         const std::array<std::int64_t, 3> stride{1, res.x, std::int64_t(res.x) * res.y};
         const bool hasFar = !std::isinf(frustum.far());
@@ -98,7 +108,7 @@ public:
         for (std::int32_t k = 1; k <= kMax; ++k) {
             if (hasFar && double(k - 1) > frustum.far()) break;
             std::uint64_t inGrid = 0, open = 0, occluded = 0, opaque = 0;
-            if (options.occlusion) m_caps.prepare(k, options.exponentialCaps);
+            if (caps) m_caps.prepare(k, options.exponentialCaps);
             for (int face = 0; face < 6; ++face) {
                 const int a = face / 2;
                 const int sgn = face % 2 == 0 ? 1 : -1;
@@ -132,15 +142,15 @@ public:
                 const IVec2 mLo{std::max({lo.x - kMargin, -k, -c[b1]}), std::max({lo.y - kMargin, -k, -c[b2]})};
                 const IVec2 mHi{std::min({hi.x + kMargin, k, res[b1] - 1 - c[b1]}),
                                 std::min({hi.y + kMargin, k, res[b2] - 1 - c[b2]})};
-                const bool testCaps = options.occlusion && m_caps.prepareFace(face, mLo, mHi);
-                if (options.occlusion) m_spans.assign(std::size_t(hi.y - lo.y + 1), IVec2(1, 0));
+                const bool testCaps = caps && m_caps.prepareFace(face, mLo, mHi);
+                if (caps) m_spans.assign(std::size_t(hi.y - lo.y + 1), IVec2(1, 0));
                 for (std::int32_t v = lo.y; v <= hi.y; ++v) {
                     const IVec3 oRow = oFace + e2 * v;
                     std::int32_t u0 = lo.x, u1 = hi.x;
                     if (!rowSpan(frustum, c, oRow, b1, u0, u1)) continue;
                     const std::int64_t rowKey = std::int64_t(grid.linearIndex(c + oRow)); // u = 0 is in the grid
                     auto keyOf = [&](std::int32_t u) { return VoxelKey(rowKey + u * step); };
-                    if (options.occlusion) m_spans[std::size_t(v - lo.y)] = {u0, u1};
+                    if (caps) m_spans[std::size_t(v - lo.y)] = {u0, u1};
                     // Some cap may hide voxel u where masks[u] != 0 (null: nowhere on this row).
                     // Indexed by u - maskU0 (a pointer shifted before the array would be undefined behaviour).
                     const ShellCaps3D::CapMask* masks = testCaps ? m_caps.maskRow(v) : nullptr;
@@ -159,7 +169,7 @@ public:
                                    face, masks ? masks + (u - maskU0) : nullptr, options, stamp, onVoxel, inGrid, open, occluded,
                                    opaque);
                 }
-                if (options.occlusion) recordMargins(grid, storage, c, k, face, oFace, e1, e2, b1, b2, lo, hi, step, stamp, testCaps);
+                if (caps) recordMargins(grid, storage, c, k, face, oFace, e1, e2, b1, b2, lo, hi, step, stamp, testCaps);
             }
             stats.voxelsVisited += inGrid;
             stats.voxelsOccluded += occluded;
@@ -169,6 +179,15 @@ public:
             if (options.occlusion && open == 0 && !cameraOnBoundary) {
                 stats.earlyTermination = true;
                 break;
+            }
+            // Deferred caps: a shell at least half opaque switches them on; its cap is built from the opaque
+            // voxels visitChunk recorded (no margins: fewer records can only leave voxels out of H).
+            if (options.occlusion && !caps && 2 * opaque >= inGrid) {
+                caps = m_capsOn = true;
+                stats.capsFromShell = std::uint32_t(k + 1);
+            } else if (options.occlusion && !caps) {
+                m_caps.discardRecorded();
+                continue;
             }
             // A shell with no blocked voxel recorded gets no caps (and the records never outlive their shell).
             if (options.occlusion && m_caps.anyRecorded()) m_caps.build(k, stats.capFaces, stats.capVoxels);
@@ -211,8 +230,9 @@ private:
         for (std::uint32_t bits = hidden; bits != 0; bits &= bits - 1, ++nHidden)
             storage.setOccluded(key + VoxelKey(std::countr_zero(bits) * step), stamp);
         for (std::uint32_t bits = opaqueBits; bits != 0; bits &= bits - 1) ++nOpaque;
+        // Without caps (deferred) only opaque voxels are recorded, in case a wall switches the caps on.
         if (options.occlusion)
-            for (std::uint32_t bits = hidden | opaqueBits; bits != 0; bits &= bits - 1)
+            for (std::uint32_t bits = m_capsOn ? hidden | opaqueBits : opaqueBits; bits != 0; bits &= bits - 1)
                 m_caps.addBlocked(o0 + e1 * std::countr_zero(bits), k);
         inGrid += std::uint64_t(n);
         occluded += std::uint64_t(nHidden);
@@ -411,6 +431,7 @@ private:
     static constexpr std::int32_t kMargin = 6;
 
     ShellCaps3D m_caps;          // this frame's caps (reused across frames)
+    bool m_capsOn = false;       // caps tested and built in the current shell (see deferCaps)
     std::vector<IVec2> m_spans;  // visited span of each row of the current face ((1, 0): none)
     std::vector<std::uint8_t> m_ends; // recordMargins' scratch: which ends of each visited row are blocked
 };

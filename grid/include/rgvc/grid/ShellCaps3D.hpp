@@ -195,6 +195,11 @@ public:
         }
     }
 
+    /// Forgets the blocked voxels recorded since the last build (the shell gets no cap).
+    void discardRecorded() {
+        for (auto& b : m_blocked) b.clear();
+    }
+
     /// Whether blocked voxels were recorded since the last build.
     bool anyRecorded() const {
         for (const auto& b : m_blocked)
