@@ -11,8 +11,8 @@
 //   H  occluded    a frame stamp: H(v) holds iff stamp(v) == current frame. Starting a frame clears H
 //                  in O(1); stamps run up to S::kMaxStamp, and the user of the storage then calls
 //                  resetStamps() (one full clear) and starts again at 1.
-//   I  ids         per voxel, its only object slot stored in the cell, or a singly linked list of slots
-//                  drawn from one node pool with a free list. After warm-up no insertion allocates.
+//   I  ids         per voxel, its only object slot stored in the cell, or a chain of 3-slot buckets drawn
+//                  from one pool with a free list. After warm-up no insertion allocates.
 //   U  used        a frame stamp marking voxels already part of an extended occluder this frame, so a
 //                  wall of n opaque voxels is extended once, not n times.
 //   T  TBVs        not here: T is read only at visited voxels and written only when TBVs change, and in
@@ -55,57 +55,84 @@ concept VoxelStorage = requires(S s, const S cs, VoxelKey k, ObjectSlot o, std::
     s.resetStamps();
 };
 
-/// Singly linked lists of object slots, one list per head, all drawn from one node pool with a free
-/// list: after warm-up, adding to a list allocates nothing. Heads live with their owner (I's in the
-/// voxel cell, T's in their own array).
-class SlotListPool {
+/// Lists of object slots, one list per head, as chains of 16-byte buckets of up to three slots, all drawn
+/// from one pool with a free list: after warm-up, adding to a list allocates nothing. Buckets, not one node
+/// per slot: walking a voxel's ids was the 3D traversal's largest cost, one dependent cache miss per node
+/// (the pool is in allocation order, not voxel order), and a voxel of two or three ids now costs one.
+/// Invariant: every bucket but the head is full, and the head's slots are packed from index 0.
+class SlotBucketPool {
 public:
     template <class Fn> void forEach(std::uint32_t head, Fn&& fn) const {
-        for (std::uint32_t n = head; n != kNone; n = m_nodes[n].next) fn(m_nodes[n].slot);
+        for (std::uint32_t b = head; b != kNone; b = m_buckets[b].next)
+            for (ObjectSlot s : m_buckets[b].slots) {
+                if (s == kNone) break; // only the head bucket (the first) has free entries, and they come last
+                fn(s);
+            }
     }
     void add(std::uint32_t& head, ObjectSlot o) {
-        std::uint32_t n;
-        if (m_free != kNone) {
-            n = m_free;
-            m_free = m_nodes[n].next;
-            m_nodes[n] = {o, head};
-        } else {
-            n = std::uint32_t(m_nodes.size());
-            m_nodes.push_back({o, head}); // amortised growth of one pool, not a per-voxel allocation
+        if (head != kNone) {
+            Bucket& h = m_buckets[head];
+            for (ObjectSlot& s : h.slots)
+                if (s == kNone) {
+                    s = o;
+                    ++m_count;
+                    return;
+                }
         }
-        head = n;
+        std::uint32_t b;
+        if (m_free != kNone) {
+            b = m_free;
+            m_free = m_buckets[b].next;
+        } else {
+            b = std::uint32_t(m_buckets.size());
+            m_buckets.emplace_back(); // amortised growth of one pool, not a per-voxel allocation
+        }
+        m_buckets[b] = Bucket{{o, kNone, kNone}, head};
+        head = b;
+        ++m_count;
     }
-    /// Removes one occurrence of o; returns false if the list does not hold it.
+    /// Removes one occurrence of o; returns false if the list does not hold it. The head's last slot
+    /// fills the hole, so the invariant holds.
     bool remove(std::uint32_t& head, ObjectSlot o) {
-        for (std::uint32_t* link = &head; *link != kNone; link = &m_nodes[*link].next) {
-            if (m_nodes[*link].slot == o) {
-                const std::uint32_t n = *link;
-                *link = m_nodes[n].next;
-                m_nodes[n].next = m_free;
-                m_free = n;
+        for (std::uint32_t b = head; b != kNone; b = m_buckets[b].next)
+            for (ObjectSlot& s : m_buckets[b].slots) {
+                if (s == kNone) break;
+                if (s != o) continue;
+                Bucket& h = m_buckets[head];
+                int last = kPerBucket - 1;
+                while (h.slots[std::size_t(last)] == kNone) --last;
+                s = h.slots[std::size_t(last)];
+                h.slots[std::size_t(last)] = kNone;
+                if (last == 0) { // the head bucket is empty: back to the free list
+                    const std::uint32_t next = h.next;
+                    h.next = m_free;
+                    m_free = head;
+                    head = next;
+                }
+                --m_count;
                 return true;
             }
-        }
         return false;
     }
-    void prefetch(std::uint32_t head) const { __builtin_prefetch(&m_nodes[head]); }
-    /// Whether the list starting at head (not kNone) holds exactly one node, and that node's slot.
-    bool isSingle(std::uint32_t head) const { return m_nodes[head].next == kNone; }
-    ObjectSlot front(std::uint32_t head) const { return m_nodes[head].slot; }
-    /// Nodes in use.
-    std::size_t size() const {
-        std::size_t freeCount = 0;
-        for (std::uint32_t n = m_free; n != kNone; n = m_nodes[n].next) ++freeCount;
-        return m_nodes.size() - freeCount;
+    void prefetch(std::uint32_t head) const { __builtin_prefetch(&m_buckets[head]); }
+    /// Whether the list starting at head (not kNone) holds exactly one slot, and its first slot.
+    bool isSingle(std::uint32_t head) const {
+        return m_buckets[head].next == kNone && m_buckets[head].slots[1] == kNone;
     }
+    ObjectSlot front(std::uint32_t head) const { return m_buckets[head].slots[0]; }
+    /// Slots in use.
+    std::size_t size() const { return m_count; }
 
 private:
-    struct Node {
-        ObjectSlot slot;
-        std::uint32_t next;
+    static constexpr int kPerBucket = 3;
+    struct Bucket {
+        ObjectSlot slots[kPerBucket] = {kNone, kNone, kNone};
+        std::uint32_t next = kNone;
     };
-    std::vector<Node> m_nodes;
+    static_assert(sizeof(Bucket) == 16);
+    std::vector<Bucket> m_buckets;
     std::uint32_t m_free = kNone;
+    std::size_t m_count = 0;
 };
 
 /// Dense arrays over the whole grid. What a traversal step reads and writes sits in one 8-byte cell per
@@ -115,7 +142,7 @@ private:
 /// the 16 of 32-bit stamps and an inline O count, so that twice as many voxels share the caches (the 3D
 /// traversal is bound by these reads). O's count (4 bytes, touched only when objects are rasterized) and the
 /// U stamps (2 bytes, read only at opaque voxels) live apart. A voxel's only id sits in the cell; two or more take
-/// 8 bytes of list node each.
+/// a 16-byte bucket per three.
 /// Stamps are 16 bits: a full clear every 65,535 frames.
 template <int D> class DenseStorage {
 public:
@@ -149,7 +176,7 @@ public:
         }
         m_ids.forEach(h, fn);
     }
-    /// Starts loading the first list node of voxel k (nothing when it has none or one id), so that a
+    /// Starts loading the first bucket of voxel k (nothing when it has none or one id), so that a
     /// caller about to walk the lists of many voxels overlaps their cache misses.
     void prefetchIds(VoxelKey k) const {
         const std::uint32_t h = m_cells[k].head & ~kOpaqueBit;
@@ -185,7 +212,7 @@ public:
         }
         std::uint32_t head = h;
         m_ids.remove(head, o);
-        if (head != kNone && m_ids.isSingle(head)) { // one id left: back into the cell, its node freed
+        if (head != kNone && m_ids.isSingle(head)) { // one id left: back into the cell, its bucket freed
             const ObjectSlot last = m_ids.front(head);
             m_ids.remove(head, last);
             setField(k, kInlineBit | last);
@@ -226,7 +253,7 @@ private:
     std::vector<Cell> m_cells;
     std::vector<std::uint32_t> m_opaque; // O counts
     std::vector<std::uint16_t> m_used;
-    SlotListPool m_ids;
+    SlotBucketPool m_ids;
     std::size_t m_inlineIds = 0; // ids stored in cells, not in m_ids
 };
 
