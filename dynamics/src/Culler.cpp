@@ -348,7 +348,7 @@ template <int D> struct Culler<D>::Impl {
         ++st.placementQueries;
         try {
             Shape<D> s = (*query)(r.id);
-            validateShape<D>(s, "object " + std::to_string(r.id) + ".shape");
+            validateShape<D>(s, [&] { return "object " + std::to_string(r.id) + ".shape"; });
             fetched = makePlacement(s);
         } catch (const InvalidInput& e) {
             if (invalidField.empty() && !queryException) {
@@ -751,7 +751,7 @@ template <int D> void Culler<D>::updateObject(ObjectId id, const Shape<D>& shape
     auto it = m.slotOf.find(id);
     if (it == m.slotOf.end()) throw InvalidInput("object " + std::to_string(id) + ".id", "unknown id");
     Shape<D> validated = shape;
-    validateShape<D>(validated, "object " + std::to_string(id));
+    validateShape<D>(validated, [&] { return "object " + std::to_string(id); });
     typename Impl::Placement p = m.makePlacement(validated);
     const ObjectSlot slot = it->second;
     typename Impl::Record& r = m.records[slot];

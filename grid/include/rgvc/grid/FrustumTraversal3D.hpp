@@ -412,12 +412,17 @@ private:
                 continue;
             }
             const double bound = (-slack - rest) / nb; // x + delta - apex_b1 >= bound (nb > 0) or <= (nb < 0)
+            // Clamped to +-1e9 before rounding (row offsets are far smaller; bound can be huge when nb is
+            // tiny), which also lets the rounding be integer conversions: std::ceil and std::floor are
+            // library calls on x86-64 without SSE4.1, and rowSpan runs for every row of every shell.
             if (nb > 0) {
-                const double u = std::ceil(bound + apex[b1] - 1.0 - c[b1] - 1e-9);
-                if (u > u0) u0 = u > 1e9 ? std::int32_t(1e9) : std::int32_t(u);
+                const double x = std::clamp(bound + apex[b1] - 1.0 - c[b1] - 1e-9, -1e9, 1e9);
+                const auto u = std::int32_t(x) + std::int32_t(double(std::int32_t(x)) < x); // ceil
+                if (u > u0) u0 = u;
             } else {
-                const double u = std::floor(bound + apex[b1] - c[b1] + 1e-9);
-                if (u < u1) u1 = u < -1e9 ? std::int32_t(-1e9) : std::int32_t(u);
+                const double x = std::clamp(bound + apex[b1] - c[b1] + 1e-9, -1e9, 1e9);
+                const auto u = std::int32_t(x) - std::int32_t(double(std::int32_t(x)) > x); // floor
+                if (u < u1) u1 = u;
             }
             if (u0 > u1) return false;
         }

@@ -113,30 +113,42 @@ inline double signedArea(const std::vector<Vec2>& pts) {
 }
 
 /// Validates a shape given in world units and normalises it (polygons become counter-clockwise).
-/// @param field  prefix for the error message, e.g. "objects[3]".
+/// @param field  prefix for the error message, e.g. "objects[3]", or a callable returning it (called on error only).
 /// @throws InvalidInput naming the field: NaN/inf, radius <= 0, min >= max, < 3 points, non-convex, zero area.
-template <int D> inline void validateShape(Shape<D>& s, const std::string& field) {
+namespace shape_detail {
+inline std::string fieldText(const std::string& field) { return field; }
+inline std::string fieldText(const char* field) { return field; }
+/// A callable naming the field: called only when there is an error to report, so that validating a
+/// shape on the hot path (a placement query per tracked object per frame) builds no string.
+template <class F>
+    requires std::is_invocable_r_v<std::string, const F&>
+inline std::string fieldText(const F& field) {
+    return field();
+}
+} // namespace shape_detail
+
+template <int D, class Field> inline void validateShape(Shape<D>& s, const Field& field) {
     std::visit(
         [&](auto& x) {
             using T = std::decay_t<decltype(x)>;
             if constexpr (std::is_same_v<T, Ball<D>>) {
-                if (!allFinite<D>(x.center)) throw InvalidInput(field + ".center", "must be finite");
+                if (!allFinite<D>(x.center)) throw InvalidInput(shape_detail::fieldText(field) + ".center", "must be finite");
                 if (!std::isfinite(x.radius) || !(x.radius > 0))
-                    throw InvalidInput(field + ".radius", "must be finite and > 0, got " + std::to_string(x.radius));
+                    throw InvalidInput(shape_detail::fieldText(field) + ".radius", "must be finite and > 0, got " + std::to_string(x.radius));
             } else if constexpr (std::is_same_v<T, Box<D>>) {
-                if (!allFinite<D>(x.min)) throw InvalidInput(field + ".min", "must be finite");
-                if (!allFinite<D>(x.max)) throw InvalidInput(field + ".max", "must be finite");
+                if (!allFinite<D>(x.min)) throw InvalidInput(shape_detail::fieldText(field) + ".min", "must be finite");
+                if (!allFinite<D>(x.max)) throw InvalidInput(shape_detail::fieldText(field) + ".max", "must be finite");
                 for (int i = 0; i < D; ++i)
                     if (!(x.min[i] < x.max[i]))
-                        throw InvalidInput(field + ".max", "must exceed min on every axis");
+                        throw InvalidInput(shape_detail::fieldText(field) + ".max", "must exceed min on every axis");
             } else {
                 const std::size_t n = x.points.size();
-                if (n < 3) throw InvalidInput(field + ".points", "a polygon needs at least 3 points");
+                if (n < 3) throw InvalidInput(shape_detail::fieldText(field) + ".points", "a polygon needs at least 3 points");
                 for (const Vec2& q : x.points)
-                    if (!allFinite<2>(q)) throw InvalidInput(field + ".points", "must be finite");
+                    if (!allFinite<2>(q)) throw InvalidInput(shape_detail::fieldText(field) + ".points", "must be finite");
                 double area = signedArea(x.points);
                 if (!(std::abs(area) > 0) || !std::isfinite(area))
-                    throw InvalidInput(field + ".points", "polygon has zero area");
+                    throw InvalidInput(shape_detail::fieldText(field) + ".points", "polygon has zero area");
                 // Checked on a counter-clockwise copy: a rejected polygon goes back to the caller untouched.
                 // Repeated consecutive points carry no edge and are dropped; without that, a polygon that
                 // runs along a line and back ((a, b, a, c, ...), found by fuzz_culler2d) hides its
@@ -149,15 +161,15 @@ template <int D> inline void validateShape(Shape<D>& s, const std::string& field
                 }
                 while (ccw.size() > 1 && ccw.back() == ccw.front()) ccw.pop_back();
                 const std::size_t m = ccw.size();
-                if (m < 3) throw InvalidInput(field + ".points", "a polygon needs at least 3 distinct points");
+                if (m < 3) throw InvalidInput(shape_detail::fieldText(field) + ".points", "a polygon needs at least 3 distinct points");
                 for (std::size_t i = 0; i < m; ++i) {
                     const Vec2& a = ccw[i];
                     const Vec2& b = ccw[(i + 1) % m];
                     const Vec2& c = ccw[(i + 2) % m];
                     const double turn = cross2(b - a, c - b);
-                    if (turn < 0) throw InvalidInput(field + ".points", "polygon is not convex");
+                    if (turn < 0) throw InvalidInput(shape_detail::fieldText(field) + ".points", "polygon is not convex");
                     if (turn == 0 && glm::dot(b - a, c - b) < 0)
-                        throw InvalidInput(field + ".points", "polygon doubles back on itself");
+                        throw InvalidInput(shape_detail::fieldText(field) + ".points", "polygon doubles back on itself");
                 }
                 // A convex polygon winds around once: the turning angles sum to 2*pi. A star-shaped
                 // self-intersecting "polygon" has all left turns too but winds more than once.
@@ -168,7 +180,7 @@ template <int D> inline void validateShape(Shape<D>& s, const std::string& field
                     turning += std::atan2(cross2(e0, e1), glm::dot(e0, e1));
                 }
                 if (turning > 2 * 3.141592653589793 + 1e-6)
-                    throw InvalidInput(field + ".points", "polygon is self-intersecting");
+                    throw InvalidInput(shape_detail::fieldText(field) + ".points", "polygon is self-intersecting");
                 x.points = std::move(ccw);
             }
         },

@@ -347,7 +347,9 @@ public:
         if (!m_voxels.empty()) m_lists.forEach(m_voxels[voxel(v)], [&](ObjectSlot s) { out.push_back(s); });
         if (m_heads.empty()) return;
         const std::size_t brick = brickOf(v);
-        if (!bitAt(brick, v)) return;
+        // Most voxels the traversal asks about lie in bricks no TBV reaches: the heads (4 bytes per brick)
+        // stay in L1, the bitmaps (a cache line per brick) do not.
+        if (m_heads[brick] == kNone || !bitAt(brick, v)) return;
         if (m_stale[brick] != 0) {
             rebuild(brick);
             if (!bitAt(brick, v)) return;
@@ -362,7 +364,7 @@ public:
         if (!m_voxels.empty() && m_voxels[voxel(v)] != kNone) return true;
         if (m_heads.empty()) return false;
         const std::size_t brick = brickOf(v);
-        if (!bitAt(brick, v)) return false;
+        if (m_heads[brick] == kNone || !bitAt(brick, v)) return false;
         bool any = false;
         m_lists.forEach(m_heads[brick], [&](ObjectSlot s) { any = any || boxHolds(m_boxes[s], v); });
         return any;
