@@ -166,7 +166,13 @@ template <int D> struct Culler<D>::Impl {
     std::uint32_t capsSkip = 0, capsBackoff = 1;
     // The grid PVS's slots in the order added, and the occlusion buffer that refines it (3D).
     std::vector<ObjectSlot> pvsSlots;
-    std::vector<std::pair<double, ObjectSlot>> bufferOrder;
+    struct BufferShape {
+        Shape<D> shape; // voxel units
+        double slack;   // conversion slack of the object and the camera
+        ObjectSlot slot;
+    };
+    std::vector<std::pair<double, std::uint32_t>> bufferOrder; // (nearest distance, index in bufferShapes)
+    std::vector<BufferShape> bufferShapes;
     OcclusionBuffer3D occlusionBuffer;
     // Per slot: the footprint written into I and O while the object is there (Static, Tracked), empty
     // otherwise. A move rasterizes only its new placement; a removal takes out exactly what was put in.
@@ -557,23 +563,26 @@ template <int D> struct Culler<D>::Impl {
         if constexpr (D == 3) {
             const auto t0 = std::chrono::steady_clock::now();
             if (!occlusionBuffer.begin(view, options.occlusionBufferRows)) return;
+            // One pass over the records (large, scattered: each read is a cache miss) copies what the buffer
+            // needs; the sort then moves 16-byte keys, and the test-and-draw pass reads the copies in order.
             bufferOrder.clear();
+            bufferShapes.clear();
             for (ObjectSlot slot : pvsSlots) {
                 const Record& r = records[slot];
                 if (r.state != State::Tracked && r.state != State::Static) continue;
                 const double slack = grid.conversionSlack(r.at.worldMagnitude) + view.slack();
-                bufferOrder.push_back({occlusionBuffer.nearestDistance(r.at.local, slack), slot});
+                bufferOrder.push_back({occlusionBuffer.nearestDistance(r.at.local, slack), std::uint32_t(bufferShapes.size())});
+                bufferShapes.push_back({r.at.local, slack, slot});
             }
             std::sort(bufferOrder.begin(), bufferOrder.end());
             std::uint32_t removed = 0;
-            for (const auto& [distance, slot] : bufferOrder) {
-                const Record& r = records[slot];
-                const double slack = grid.conversionSlack(r.at.worldMagnitude) + view.slack();
-                if (occlusionBuffer.hidden(r.at.local, slack)) {
-                    pvsStamp[slot] = 0; // marks it for removal below; the grid's verdict (lastPvsFrame) stays
+            for (const auto& [distance, index] : bufferOrder) {
+                const BufferShape& b = bufferShapes[index];
+                if (occlusionBuffer.hidden(b.shape, b.slack)) {
+                    pvsStamp[b.slot] = 0; // marks it for removal below; the grid's verdict (lastPvsFrame) stays
                     ++removed;
                 } else {
-                    occlusionBuffer.draw(r.at.local, slack);
+                    occlusionBuffer.draw(b.shape, b.slack);
                 }
             }
             if (removed != 0) {

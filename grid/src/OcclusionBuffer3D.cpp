@@ -16,9 +16,6 @@ constexpr double kRelMargin = 1e-9;
 /// projections are rounded, and a direction of the view must never fall outside its pixel rectangle.
 constexpr double kImageMargin = 1e-6;
 
-/// Unit vector along v (v is forward + x right + y up with |x|, |y| <= ~1e4: no overflow).
-Vec3 unit(const Vec3& v) { return v / std::sqrt(lengthSquared<3>(v)); }
-
 } // namespace
 
 bool OcclusionBuffer3D::begin(const ViewFrustum& view, int rows) {
@@ -37,13 +34,21 @@ bool OcclusionBuffer3D::begin(const ViewFrustum& view, int rows) {
     m_pixelW = 2 * m_halfW / m_cols;
     m_pixelH = 2 * m_halfH / m_rows;
     m_depth.assign(std::size_t(m_rows) * std::size_t(m_cols), kInf);
-    m_dirs.resize(std::size_t(m_rows + 1) * std::size_t(m_cols + 1));
-    for (int j = 0; j <= m_rows; ++j) {
-        const double y = -m_halfH + j * m_pixelH;
-        for (int i = 0; i <= m_cols; ++i) {
-            const double x = -m_halfW + i * m_pixelW;
-            m_dirs[std::size_t(j) * std::size_t(m_cols + 1) + std::size_t(i)] = unit(m_forward + x * m_right + y * m_up);
-        }
+    if (m_latticeW != m_halfW || m_latticeH != m_halfH || m_cornerX.size() != std::size_t(m_cols + 1) ||
+        m_cornerY.size() != std::size_t(m_rows + 1)) {
+        m_cornerX.resize(std::size_t(m_cols + 1));
+        m_cornerY.resize(std::size_t(m_rows + 1));
+        for (int i = 0; i <= m_cols; ++i) m_cornerX[std::size_t(i)] = -m_halfW + i * m_pixelW;
+        for (int j = 0; j <= m_rows; ++j) m_cornerY[std::size_t(j)] = -m_halfH + j * m_pixelH;
+        m_invLen.resize(std::size_t(m_rows + 1) * std::size_t(m_cols + 1));
+        // forward, right and up are orthonormal: |forward + x right + y up|^2 = 1 + x^2 + y^2.
+        for (int j = 0; j <= m_rows; ++j)
+            for (int i = 0; i <= m_cols; ++i) {
+                const double x = m_cornerX[std::size_t(i)], y = m_cornerY[std::size_t(j)];
+                m_invLen[std::size_t(j) * std::size_t(m_cols + 1) + std::size_t(i)] = 1.0 / std::sqrt(1.0 + x * x + y * y);
+            }
+        m_latticeW = m_halfW;
+        m_latticeH = m_halfH;
     }
     m_rowA.resize(std::size_t(m_cols + 1));
     m_rowB.resize(std::size_t(m_cols + 1));
@@ -136,26 +141,26 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow) {
     return true;
 }
 
-template <class Entry> void OcclusionBuffer3D::drawRect(const PixelRect& r, Entry&& entry) {
+template <class FillRow> void OcclusionBuffer3D::drawRect(const PixelRect& r, FillRow&& fillRow) {
     if (r.i0 > r.i1) return;
-    auto lattice = [&](int j, std::vector<double>& out) {
-        for (int i = r.i0; i <= r.i1 + 1; ++i) out[std::size_t(i)] = entry(cornerDir(i, j));
-    };
-    lattice(r.j0, m_rowA);
+    // Two lattice rows at a time; the pixel loop uses selects, not jumps.
+    fillRow(r.j0, r.i0, r.i1 + 1, m_rowA.data());
+    std::uint64_t covered = 0;
     for (int j = r.j0; j <= r.j1; ++j) {
-        lattice(j + 1, m_rowB);
+        fillRow(j + 1, r.i0, r.i1 + 1, m_rowB.data());
         double* row = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
+        const double* a = m_rowA.data();
+        const double* b = m_rowB.data();
         for (int i = r.i0; i <= r.i1; ++i) {
-            const double e = std::max(std::max(m_rowA[std::size_t(i)], m_rowA[std::size_t(i) + 1]),
-                                      std::max(m_rowB[std::size_t(i)], m_rowB[std::size_t(i) + 1]));
-            const double lo = std::min(std::min(m_rowA[std::size_t(i)], m_rowA[std::size_t(i) + 1]),
-                                       std::min(m_rowB[std::size_t(i)], m_rowB[std::size_t(i) + 1]));
-            if (lo < 0) continue; // a corner ray misses the interior
-            ++m_stats.pixelsCovered;
-            row[i] = std::min(row[i], e);
+            const double e = std::max(std::max(a[i], a[i + 1]), std::max(b[i], b[i + 1]));
+            const double lo = std::min(std::min(a[i], a[i + 1]), std::min(b[i], b[i + 1]));
+            const bool in = lo >= 0; // every corner ray passes through the interior
+            covered += in;
+            row[i] = in ? std::min(row[i], e) : row[i];
         }
         std::swap(m_rowA, m_rowB);
     }
+    m_stats.pixelsCovered += covered;
 }
 
 void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
@@ -171,11 +176,18 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
         // c.d > sqrt(|c|^2 - rho^2), with a margin; it then enters at c.d - sqrt(rho^2 - |c|^2 + (c.d)^2).
         const double cosLimit = std::sqrt(l2 - rho * rho) + kRelMargin * len;
         ++m_stats.occludersDrawn;
-        drawRect(rectOf(c, rho), [&](const Vec3& d) {
-            const double cd = glm::dot(c, d);
-            if (!(cd > cosLimit)) return -1.0;
-            const double t = cd - std::sqrt(std::max(0.0, rho * rho - l2 + cd * cd));
-            return t * (1 + kRelMargin) + kRelMargin * len;
+        // In camera coordinates c.d = (cz + x cx + y cy) / |forward + x right + y up| for the corner ray d.
+        const double cx = glm::dot(c, m_right), cy = glm::dot(c, m_up), cz = glm::dot(c, m_forward);
+        const double rho2l2 = rho * rho - l2, scale = 1 + kRelMargin, pad = kRelMargin * len;
+        const double* xs = m_cornerX.data();
+        drawRect(rectOf(c, rho), [&](int j, int i0, int i1, double* out) {
+            const double yTerm = cz + m_cornerY[std::size_t(j)] * cy;
+            const double* inv = m_invLen.data() + std::size_t(j) * std::size_t(m_cols + 1);
+            for (int i = i0; i <= i1; ++i) {
+                const double cd = (yTerm + xs[i] * cx) * inv[i];
+                const double t = cd - std::sqrt(std::max(0.0, rho2l2 + cd * cd));
+                out[i] = cd > cosLimit ? t * scale + pad : -1.0;
+            }
         });
         return;
     }
@@ -188,7 +200,8 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
     for (int a = 0; a < 3; ++a) inside = inside && lo[a] <= kRelMargin * scale && hi[a] >= -kRelMargin * scale;
     if (inside) return;
     ++m_stats.occludersDrawn;
-    drawRect(rectOf(lo, hi), [&](const Vec3& d) {
+    auto entry = [&](int i, int j) {
+        const Vec3 d = (m_forward + m_cornerX[std::size_t(i)] * m_right + m_cornerY[std::size_t(j)] * m_up) * invLength(i, j);
         // Slab test along the unit ray t d; the ray passes through the interior when the open slab
         // intervals overlap with room to spare.
         double tEnter = -kInf, tExit = kInf;
@@ -204,6 +217,9 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
         }
         if (!(tEnter > 0) || !(tExit - tEnter > kRelMargin * tExit + 1e-300)) return -1.0;
         return tEnter * (1 + kRelMargin) + kRelMargin * scale;
+    };
+    drawRect(rectOf(lo, hi), [&](int j, int i0, int i1, double* out) {
+        for (int i = i0; i <= i1; ++i) out[i] = entry(i, j);
     });
 }
 

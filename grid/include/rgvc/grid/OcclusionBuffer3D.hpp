@@ -99,17 +99,23 @@ private:
     /// Outer rectangle of the image of a sphere / box (relative to the apex).
     PixelRect rectOf(const Vec3& c, double radius) const;
     PixelRect rectOf(const Vec3& lo, const Vec3& hi) const;
-    const Vec3& cornerDir(int i, int j) const { return m_dirs[std::size_t(j) * std::size_t(m_cols + 1) + std::size_t(i)]; }
-    /// Draws an occluder whose entry distance along unit corner direction d is entry(d), or a negative
-    /// value when that ray misses the occluder's interior.
-    template <class Entry> void drawRect(const PixelRect& r, Entry&& entry);
+    /// 1 / |forward + x_i right + y_j up| = 1 / sqrt(1 + x_i^2 + y_j^2) for lattice corner (i, j).
+    double invLength(int i, int j) const { return m_invLen[std::size_t(j) * std::size_t(m_cols + 1) + std::size_t(i)]; }
+    /// Draws an occluder over rectangle r. fillRow(j, i0, i1, out) writes out[i] for i in [i0, i1]: the entry
+    /// distance along the unit ray through lattice corner (i, j), or a negative value when that ray misses
+    /// the occluder's interior.
+    template <class FillRow> void drawRect(const PixelRect& r, FillRow&& fillRow);
 
     Vec3 m_apex{0.0}, m_forward{0.0}, m_right{0.0}, m_up{0.0};
     double m_halfW = 0, m_halfH = 0, m_pixelW = 0, m_pixelH = 0;
     int m_rows = 0, m_cols = 0;
     bool m_active = false;
     std::vector<double> m_depth; // rows x cols
-    std::vector<Vec3> m_dirs;    // (rows + 1) x (cols + 1) unit corner directions
+    // The lattice of pixel corners on the image plane: x_i, y_j and the inverse lengths of their rays.
+    // They depend on the fov, aspect and rows only, not on the camera's position or orientation, so they
+    // are kept while those stay (a camera walk changes neither).
+    std::vector<double> m_cornerX, m_cornerY, m_invLen;
+    double m_latticeW = -1, m_latticeH = -1;
     std::vector<double> m_rowA, m_rowB; // drawRect's corner entries of two lattice rows
     OcclusionBufferStats m_stats;
 };
