@@ -155,6 +155,18 @@ public:
                     // Indexed by u - maskU0 (a pointer shifted before the array would be undefined behaviour).
                     const ShellCaps3D::CapMask* masks = testCaps ? m_caps.maskRow(v) : nullptr;
                     const std::int32_t maskU0 = m_caps.maskU0();
+                    // Start loading the next row's cells (over this row's span, which the next one nearly
+                    // shares): a face whose rows run along y or z reads one cache line per voxel, and those
+                    // misses then overlap with this row's work instead of following it.
+                    if constexpr (requires(const Storage& st) { st.prefetchCell(VoxelKey(0)); }) {
+                        const std::int32_t vNext = v + 1;
+                        if (vNext <= hi.y && c[b2] + vNext < res[b2]) {
+                            const std::int64_t nextKey = rowKey + stride[b2];
+                            const std::int32_t every = step == 1 ? 8 : 1; // 8 cells share a 64-byte line
+                            for (std::int32_t u = u0; u <= u1; u += every)
+                                storage.prefetchCell(VoxelKey(nextKey + u * step));
+                        }
+                    }
                     if (hasFar) { // rare: the far ball's test for every voxel
                         for (std::int32_t u = u0; u <= u1; ++u) {
                             const IVec3 o = oRow + e1 * u;

@@ -176,6 +176,8 @@ public:
         }
         m_ids.forEach(h, fn);
     }
+    /// Starts loading voxel k's cell (a traversal reading rows across the grid's memory order).
+    void prefetchCell(VoxelKey k) const { __builtin_prefetch(&m_cells[k]); }
     /// Starts loading the first bucket of voxel k (nothing when it has none or one id), so that a
     /// caller about to walk the lists of many voxels overlaps their cache misses.
     void prefetchIds(VoxelKey k) const {
