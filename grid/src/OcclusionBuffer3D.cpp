@@ -63,6 +63,9 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::pixelsOf(double x0, double x1, d
         const double f = (v + half) / size + bias;
         return f < -1.0 ? -1.0 : (f > 1e7 ? 1e7 : std::floor(f));
     };
+    // Bounds computed from overflowing coordinates (inf - inf) are NaN: nothing is known, so the whole
+    // image (found by fuzz_culler3d).
+    if (std::isnan(x0) || std::isnan(x1) || std::isnan(y0) || std::isnan(y1)) return wholeImage();
     PixelRect r;
     r.i0 = std::max(0, int(index(x0, m_halfW, m_pixelW, -1e-6)));
     r.i1 = std::min(m_cols - 1, int(index(x1, m_halfW, m_pixelW, 1e-6)));

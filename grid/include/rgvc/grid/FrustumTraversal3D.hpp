@@ -427,6 +427,8 @@ private:
             // Clamped to +-1e9 before rounding (row offsets are far smaller; bound can be huge when nb is
             // tiny), which also lets the rounding be integer conversions: std::ceil and std::floor are
             // library calls on x86-64 without SSE4.1, and rowSpan runs for every row of every shell.
+            // A NaN bound (degenerate planes, found by fuzz_culler3d) clips nothing, as std::ceil's NaN did.
+            if (std::isnan(bound)) continue;
             if (nb > 0) {
                 const double x = std::clamp(bound + apex[b1] - 1.0 - c[b1] - 1e-9, -1e9, 1e9);
                 const auto u = std::int32_t(x) + std::int32_t(double(std::int32_t(x)) < x); // ceil
