@@ -157,8 +157,8 @@ struct CullerOptions {
     /// half the growth next time (down to 1/16), and back up after a validity unrevealed. 0 picks the
     /// measured default: 32 in 2D, where a renewal writes contiguous runs of a ring whose length grows
     /// only linearly with the radius, so fewer, larger renewals win (README, "Dynamic scenes"), and 8 in
-    /// 3D, where the projected outlines also grow linearly with the cube's side (12 n writes) but larger
-    /// cubes get revealed more often next to the view (measured: growth 4 / 8 cost 34.5 / 27.7 ms per frame
+    /// 3D, where larger cubes get revealed more often next to the view (measured with the projection-plane
+    /// T of an earlier version, whose writes grew linearly with the cube's side: growth 4 / 8 cost 34.5 / 27.7 ms per frame
     /// with 100,000 hidden objects on rgvc_bench_dynamic hidden3d; growth 4 / 8 / 16 cost 10.0 / 10.7 /
     /// 12.5 ms on rgvc_bench3d paper100 --tbv boundary, whose camera jumps several voxels a frame).
     double tbvMaxGrowth = 0;

@@ -15,8 +15,8 @@
 //                  from one pool with a free list. After warm-up no insertion allocates.
 //   U  used        a frame stamp marking voxels already part of an extended occluder this frame, so a
 //                  wall of n opaque voxels is extended once, not n times.
-//   T  TBVs        not here: T is read only at visited voxels and written only when TBVs change, and in
-//                  3D it is three projection planes, not a voxel matrix (TbvMatrix.hpp).
+//   T  TBVs        not here: T is read only at visited voxels and written only when TBVs change; it is
+//                  counts and tile lists in 2D and a brick index in 3D, not a voxel matrix (TbvMatrix.hpp).
 //   Os             O is maintained incrementally (objects add and remove their own inner voxels) and never
 //                  rebuilt, so the paper's static occluder matrix is O's static part: a static object is
 //                  counted in once and stays; there is nothing to copy from Os into O each frame.
