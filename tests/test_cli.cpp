@@ -171,6 +171,10 @@ TEST_CASE("bad usage: status 2, one line, nothing on stdout", "[cli]") {
     checkRejected(runRgvc("cull " + good + " --frames 0"), "rgvc cull: --frames: ");
     checkRejected(runRgvc("cull " + good + " --frames -3"), "rgvc cull: --frames: ");
     checkRejected(runRgvc("cull " + good + " --frames 2x"), "rgvc cull: --frames: ");
+    checkRejected(runRgvc("cull " + good + " --buffer-rows"), "rgvc cull: --buffer-rows: ");
+    checkRejected(runRgvc("cull " + good + " --buffer-rows -1"), "rgvc cull: --buffer-rows: ");
+    checkRejected(runRgvc("cull " + good + " --buffer-rows 2049"), "rgvc cull: --buffer-rows: ");
+    checkRejected(runRgvc("cull " + good + " --buffer-rows 8x"), "rgvc cull: --buffer-rows: ");
 }
 
 TEST_CASE("bad scene files: status 2, one line naming file and field, nothing on stdout", "[cli]") {
@@ -242,6 +246,17 @@ TEST_CASE("3D scenes: culled, with every 3D rule checked first", "[cli]") {
         // The wall (2) hides the sphere behind it (1); the small sphere in front (3) is seen; 4 is behind the camera.
         CHECK(line["pvs"] == json::array({2, 3}));
         CHECK(line["objects"][0]["translation"].size() == 3);
+    }
+    // The occlusion buffer and adaptive caps: their stats are printed, and turning them off keeps the answer
+    // a superset (here the same: the wall hides sphere 1 in the grid already).
+    CHECK(r.lines()[0]["stats"].contains("buffer_ms"));
+    CHECK(r.lines()[0]["stats"].contains("caps_deferred"));
+    Run off = runRgvc("cull " + quote(path) + " --frames 3 --buffer-rows 0 --caps-every-frame");
+    REQUIRE(off.status == 0);
+    for (const json& line : off.lines()) {
+        CHECK(line["pvs"] == json::array({2, 3}));
+        CHECK(line["stats"]["buffer_tested"] == 0);
+        CHECK(line["stats"]["caps_deferred"] == false);
     }
     j["objects"][0]["shape"] = "circle";
     const std::string bad = writeTemp("three-bad.json", j.dump());
