@@ -59,23 +59,15 @@ struct Variant {
     CullerOptions options;
 };
 
-CullerOptions variantOptions(bool occlusion, bool extension, int bufferRows, bool adaptiveCaps = true) {
-    CullerOptions o;
-    o.adaptiveCaps = adaptiveCaps;
-    o.occlusion = occlusion;
-    o.occluderExtension = extension;
-    o.occlusionBufferRows = bufferRows;
-    return o;
-}
-
 constexpr int kVariants = 5;
 // Not const: --tbv sets the temporal-bounding-volume options of every variant, --buffer-rows the rows of
 // the occlusion buffer of those that have one.
-Variant kVariantList[kVariants] = {{"rgvc (grid + occlusion buffer)", variantOptions(true, true, 64)},
-                                   {"rgvc, caps every frame + buffer", variantOptions(true, true, 64, false)},
-                                   {"rgvc, grid only (no buffer)", variantOptions(true, true, 0, false)},
-                                   {"rgvc, caps k-1 every frame + buf", variantOptions(true, false, 64, false)},
-                                   {"grid VFC only (baseline)", variantOptions(false, false, 0)}};
+Variant kVariantList[kVariants] = {
+    {"rgvc (grid + occlusion buffer)", {}},
+    {"rgvc, caps every frame + buffer", {.adaptiveCaps = false}},
+    {"rgvc, grid only (no buffer)", {.occlusionBufferRows = 0, .adaptiveCaps = false}},
+    {"rgvc, caps k-1 every frame + buf", {.occluderExtension = false, .adaptiveCaps = false}},
+    {"grid VFC only (baseline)", {.occlusion = false, .occluderExtension = false, .occlusionBufferRows = 0}}};
 
 /// The benchmark's world: `spheres` spheres in 100 x 60 x 100 units (or `world` units), culled on a
 /// grid of `resolution` voxels covering the same box.

@@ -28,7 +28,6 @@
 #include <charconv>
 #include <chrono>
 #include <cstdint>
-#include <cstdlib>
 #include <iostream>
 #include <numeric>
 #include <optional>
@@ -91,14 +90,18 @@ struct CullArgs {
     CullerOptions options; // the flags; objectsStayInGrid comes from the scene (sceneCullerOptions)
 };
 
-std::size_t parseFrames(const std::string& text) {
+/// The value of integer flag `flag`: decimal digits only, in [lo, hi].
+std::uint64_t parseInteger(const std::string& flag, const std::string& text, std::uint64_t lo, std::uint64_t hi) {
     std::uint64_t n = 0;
     const char* end = text.data() + text.size();
     auto [p, ec] = std::from_chars(text.data(), end, n);
-    if (text.empty() || ec != std::errc() || p != end || n < 1 || n > kMaxFrames)
-        throw UsageError("--frames: must be an integer in [1, " + std::to_string(kMaxFrames) + "], got '" + text + "'");
-    return std::size_t(n);
+    if (text.empty() || ec != std::errc() || p != end || n < lo || n > hi)
+        throw UsageError(flag + ": must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" +
+                         text + "'");
+    return n;
 }
+
+std::size_t parseFrames(const std::string& text) { return std::size_t(parseInteger("--frames", text, 1, kMaxFrames)); }
 
 CullArgs parseArgs(int argc, char** argv) {
     CullArgs a;
@@ -129,12 +132,7 @@ CullArgs parseArgs(int argc, char** argv) {
                 a.options.adaptiveCaps = false;
             } else if (arg == "--buffer-rows") {
                 if (i + 1 >= argc) throw UsageError("--buffer-rows: missing value");
-                const std::string v = argv[++i];
-                char* end = nullptr;
-                const long rows = std::strtol(v.c_str(), &end, 10);
-                if (v.empty() || *end != '\0' || rows < 0 || rows > OcclusionBuffer3D::kMaxExtent)
-                    throw UsageError("--buffer-rows: expected an integer in [0, " +
-                                     std::to_string(OcclusionBuffer3D::kMaxExtent) + "], got '" + v + "'");
+                const auto rows = parseInteger("--buffer-rows", argv[++i], 0, OcclusionBuffer3D::kMaxExtent);
                 a.options.occlusionBufferRows = int(rows);
             } else {
                 throw UsageError("unknown option '" + arg + "' (try `rgvc cull --help`)");

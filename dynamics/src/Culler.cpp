@@ -578,7 +578,7 @@ template <int D> struct Culler<D>::Impl {
             std::uint32_t removed = 0;
             for (const auto& [distance, index] : bufferOrder) {
                 const BufferShape& b = bufferShapes[index];
-                if (occlusionBuffer.hidden(b.shape, b.slack)) {
+                if (occlusionBuffer.hidden(b.shape, b.slack, distance)) {
                     pvsStamp[b.slot] = 0; // marks it for removal below; the grid's verdict (lastPvsFrame) stays
                     ++removed;
                 } else {

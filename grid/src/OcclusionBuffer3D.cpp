@@ -122,10 +122,10 @@ double OcclusionBuffer3D::nearestDistance(const Shape<3>& shape, double grow) co
     return std::sqrt(lengthSquared<3>(nearest - m_apex));
 }
 
-bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow) {
+bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distance) {
     if (!m_active) return false;
     ++m_stats.tested;
-    const double nearest = nearestDistance(shape, grow) * (1 - kRelMargin);
+    const double nearest = distance * (1 - kRelMargin);
     if (!(nearest > 0)) return false;
     PixelRect r;
     if (const auto* b = std::get_if<Ball<3>>(&shape))

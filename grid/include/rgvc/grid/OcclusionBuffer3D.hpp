@@ -77,7 +77,9 @@ public:
 
     /// Conservative: true only if no point of the shape grown by `grow` [voxel units, >= 0] that lies in
     /// the view is visible past the occluders drawn so far.
-    bool hidden(const Shape<3>& shape, double grow);
+    bool hidden(const Shape<3>& shape, double grow) { return hidden(shape, grow, nearestDistance(shape, grow)); }
+    /// As above, with nearest = nearestDistance(shape, grow) already known (the front-to-back sort key).
+    bool hidden(const Shape<3>& shape, double grow, double nearest);
 
     /// Draws the shape shrunk by `shrink` [voxel units, >= 0] as an occluder (nothing when the shrunk
     /// shape is empty or holds the camera).
