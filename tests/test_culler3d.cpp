@@ -204,16 +204,25 @@ void checkFrame(Culler3D& culler, const std::vector<ObjectDesc<3>>& objects, con
 Tally runRandomScenes(const std::string& name, std::uint64_t firstSeed, int scenes, int camerasPerScene,
                       const ref::SceneOptions3D& opt, const CullerOptions& cullerOptions = {}) {
     Tally tally;
+    // Both cores: the brick tree (the default) and, unless the caller chose one, the shells (§5.2-5.3).
+    for (bool hierarchical : {true, false}) {
+    if (!hierarchical && !cullerOptions.hierarchical) break;
+    CullerOptions core = cullerOptions;
+    core.hierarchical = cullerOptions.hierarchical && hierarchical;
     for (std::uint64_t seed = firstSeed; seed < firstSeed + std::uint64_t(scenes); ++seed) {
         ref::Scene3D s = ref::randomScene3D(seed, opt);
-        Culler3D culler(s.grid, cullerOptions);
+        Culler3D culler(s.grid, core);
         for (const ObjectDesc<3>& o : s.objects) culler.addObject(o);
         REQUIRE(culler.objectCount() == s.objects.size());
         std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ull);
         for (int c = 0; c < camerasPerScene; ++c) {
             Camera3 cam = c == 0 ? s.camera : ref::randomCamera3D(rng, s.grid, s.objects, s.snapped, opt);
-            checkFrame(culler, s.objects, cam, name + ", seed " + std::to_string(seed) + ", camera " + std::to_string(c), tally);
+            checkFrame(culler, s.objects, cam,
+                       name + (core.hierarchical ? "" : " (shells)") + ", seed " + std::to_string(seed) + ", camera " +
+                           std::to_string(c),
+                       tally);
         }
+    }
     }
     tally.print(name);
     return tally;
@@ -301,7 +310,8 @@ TEST_CASE("culler3d: occluder fusion: a wall of small boxes sharing faces hides 
                 if (vis[wallCount + 1]) CHECK(contains(r.pvs, frontId));
                 if (occlusion) {
                     CHECK_FALSE(contains(r.pvs, hiddenId)); // fused across the boxes
-                    CHECK((r.stats.voxelsOccluded > 0 || r.stats.earlyTermination));
+                    CHECK((r.stats.voxelsOccluded > 0 || r.stats.earlyTermination || r.stats.nodesHidden > 0 ||
+                           r.stats.imageHidden > 0));
                 } else {
                     CHECK(contains(r.pvs, hiddenId)); // VFC: in the view region
                 }
@@ -317,9 +327,13 @@ TEST_CASE("culler3d: a wall across the whole view hides everything behind it at 
     // voxels behind the wall visited and not occluded, and the traversal ran through ~2 M voxels). A voxel
     // behind the wall that is visited but not occluded is a leak; visited and occluded ones are the cost of
     // reaching the shell where the whole view is blocked (a wider turn puts that shell farther away).
+    // The shells' own test (their layers and early termination); test_brick_traversal sweeps the brick
+    // tree over yaw 0-80 and pitch -40-40 degrees.
     GridGeometry3 grid({0, 0, 0}, 1.0, {256, 128, 256});
+    CullerOptions shells;
+    shells.hierarchical = false;
     for (int box : {32, 4}) { // big boxes, and 4 x 4 x 4 ones (occluder fusion across 2,048 boxes)
-        Culler3D culler(grid);
+        Culler3D culler(grid, shells);
         ObjectId id = 0;
         for (int x = 0; x < 256; x += box)
             for (int y = 0; y < 128; y += box)
@@ -536,7 +550,7 @@ TEST_CASE("culler3d: no misses on a systematic sweep of degenerate cameras", "[c
 
 TEST_CASE("culler3d: no misses on mixed random scenes", "[culler3d]") {
     Tally t = runRandomScenes("mixed", 1, 500, 3, ref::SceneOptions3D{});
-    REQUIRE(t.frames == 1500);
+    REQUIRE(t.frames == 3000); // 1,500 pairs, each culled by both cores
     REQUIRE(t.misses == 0);
 }
 
@@ -721,10 +735,13 @@ TEST_CASE("culler3d: the moving-spheres benchmark scene, small", "[culler3d]") {
 }
 
 TEST_CASE("culler3d: adaptive caps: frames without caps stay conservative, and a wall switches them on", "[culler3d]") {
-    // CullerOptions::adaptiveCaps (default on): frames after unproductive caps start without them.
+    // CullerOptions::adaptiveCaps (default on): frames after unproductive caps start without them. Caps
+    // belong to the shell traversal (CullerOptions::hierarchical = false).
+    CullerOptions shells;
+    shells.hierarchical = false;
     SECTION("moving spheres: many deferred frames, every frame checked") {
         ref::MovingSpheres3D b = ref::movingSpheres3D(11, 400, {50, 30, 50}, 4);
-        Culler3D culler(b.grid);
+        Culler3D culler(b.grid, shells);
         for (const ObjectDesc<3>& o : b.objects) culler.addObject(o);
         Tally t;
         int deferred = 0;
@@ -745,7 +762,7 @@ TEST_CASE("culler3d: adaptive caps: frames without caps stay conservative, and a
         // Tiny spheres everywhere (no occlusion: the caps do not pay), and a static wall at z 40..44 over
         // x >= 20, which covers most of the view looking along +z from (32.5, 16.5, 5.5).
         GridGeometry3 grid({0, 0, 0}, 1.0, {64, 32, 64});
-        Culler3D culler(grid);
+        Culler3D culler(grid, shells);
         std::vector<ObjectDesc<3>> objects;
         objects.push_back({.id = 0, .shape = Box<3>{{20, 0, 40}, {64, 32, 44}}, .isStatic = true});
         std::mt19937_64 rng(5150);

@@ -44,7 +44,8 @@ using Clock = std::chrono::steady_clock;
 
 const char* const kCullUsage =
     "usage: rgvc cull SCENE.json [--frames N] [--dump-objects] [--no-occlusion] [--no-extension]\n"
-    "                 [--no-tbv] [--filled-tbv] [--caps-every-frame] [--buffer-rows R]\n"
+    "                 [--no-tbv] [--filled-tbv] [--caps-every-frame] [--buffer-rows R] [--shells]\n"
+    "                 [--image-rows R]\n"
     "\n"
     "Runs N frames of a scene file (the format is described in the project README) and prints one\n"
     "JSON object per frame on stdout:\n"
@@ -62,6 +63,9 @@ const char* const kCullUsage =
     "  --caps-every-frame  3D: grid caps on every frame (default: skipped while they do not pay)\n"
     "  --buffer-rows R  3D: rows of the occlusion buffer that refines the grid's PVS, 0..2048\n"
     "                   (default 64; 0 turns it off)\n"
+    "  --shells         3D: the paper's per-voxel shell traversal with cap polygons instead of the\n"
+    "                   brick tree with its occlusion image (the default; README \"How it works\")\n"
+    "  --image-rows R   3D brick tree: rows of its occlusion image, 1..2048 (default 128)\n"
     "  -h, --help       this text\n"
     "\n"
     "stats: cull_ms (library time of the frame, scene update included), update_ms (its scene-update\n"
@@ -70,7 +74,8 @@ const char* const kCullUsage =
     "occlusion_skipped, fallback, objects_outside_grid, placement_queries, tracked_objects,\n"
     "hidden_objects, tbvs_created, tbvs_renewed, tbvs_revealed, tbvs_refused, tbvs_held, camera_jump,\n"
     "speed_violations, grid_writes, tbv_lookups_skipped, caps_deferred, caps_from_shell, buffer_tested,\n"
-    "buffer_hidden, buffer_ms;\n"
+    "buffer_hidden, buffer_ms, nodes_visited, nodes_empty, nodes_hidden, bricks_visited,\n"
+    "image_hidden;\n"
     "frame 0 adds setup_ms.\n"
     "\n"
     "Exit status: 0 success; 2 bad input (one line \"FILE: FIELD: PROBLEM\" on stderr) or bad usage\n"
@@ -134,6 +139,11 @@ CullArgs parseArgs(int argc, char** argv) {
                 if (i + 1 >= argc) throw UsageError("--buffer-rows: missing value");
                 const auto rows = parseInteger("--buffer-rows", argv[++i], 0, OcclusionBuffer3D::kMaxExtent);
                 a.options.occlusionBufferRows = int(rows);
+            } else if (arg == "--shells") {
+                a.options.hierarchical = false;
+            } else if (arg == "--image-rows") {
+                if (i + 1 >= argc) throw UsageError("--image-rows: missing value");
+                a.options.traversalImageRows = int(parseInteger("--image-rows", argv[++i], 1, OcclusionBuffer3D::kMaxExtent));
             } else {
                 throw UsageError("unknown option '" + arg + "' (try `rgvc cull --help`)");
             }
@@ -174,6 +184,11 @@ ojson statsJson(const CullStats& s) {
     j["buffer_tested"] = s.bufferTested;
     j["buffer_hidden"] = s.bufferHidden;
     j["buffer_ms"] = s.bufferMs;
+    j["nodes_visited"] = s.nodesVisited;
+    j["nodes_empty"] = s.nodesEmpty;
+    j["nodes_hidden"] = s.nodesHidden;
+    j["bricks_visited"] = s.bricksVisited;
+    j["image_hidden"] = s.imageHidden;
     j["placement_queries"] = s.placementQueries;
     j["tracked_objects"] = s.trackedObjects;
     j["hidden_objects"] = s.hiddenObjects;

@@ -3,6 +3,7 @@
 // ViewFrustum + FrustumTraversal3D), chosen by CullerTraits.
 #include "rgvc/dynamics/Culler.hpp"
 
+#include "rgvc/grid/BrickTraversal3D.hpp"
 #include "rgvc/grid/ConservativeRaster.hpp"
 #include "rgvc/grid/FrustumTraversal2D.hpp"
 #include "rgvc/grid/FrustumTraversal3D.hpp"
@@ -162,6 +163,7 @@ template <int D> struct Culler<D>::Impl {
     std::uint64_t writes = 0;
     std::vector<ObjectSlot> revealScratch;
     Placement fetched; // the last placement a query returned
+    const typename Traits::View* currentView = nullptr; // the frame's view, while cull() runs
     // CullerOptions::adaptiveCaps (3D): frames still to start without caps, and the next skip's length.
     std::uint32_t capsSkip = 0, capsBackoff = 1;
     // The grid PVS's slots in the order added, and the occlusion buffer that refines it (3D).
@@ -174,6 +176,12 @@ template <int D> struct Culler<D>::Impl {
     std::vector<std::pair<double, std::uint32_t>> bufferOrder; // (nearest distance, index in bufferShapes)
     std::vector<BufferShape> bufferShapes;
     OcclusionBuffer3D occlusionBuffer;
+    // CullerOptions::hierarchical (3D): the brick-tree walk, its occlusion image, and per slot the frame
+    // stamp in which the object was classified (tested against the view and the image) by it.
+    BrickTraversal3D<DenseStorage<3>> brickTraversal;
+    OcclusionBuffer3D traversalImage;
+    bool imageActive = false;
+    std::vector<std::uint32_t> classifiedStamp;
     // Per slot: the footprint written into I and O while the object is there (Static, Tracked), empty
     // otherwise. A move rasterizes only its new placement; a removal takes out exactly what was put in.
     std::vector<RowFootprint> footprints;
@@ -283,6 +291,10 @@ template <int D> struct Culler<D>::Impl {
         r.tbv = region;
         r.tbvExpiry = expiry;
         writes += tbvs.insert(slot, region, options.tbvDiscretization);
+        if constexpr (D == 3) { // the brick tree must see the TBV (BrickPyramid: marking is eager)
+            IVec3 lo, hi;
+            if (tbvVoxelBox3D(region, grid.resolution(), lo, hi)) storage.bricks().markOccupied(lo, hi);
+        }
         expiring[expiry % expiring.size()].emplace_back(slot, r.tbvGeneration);
         enter(slot, State::Hidden);
     }
@@ -519,6 +531,10 @@ template <int D> struct Culler<D>::Impl {
             addToPvs(slot);
             return;
         }
+        if (D == 3 && options.hierarchical) { // classified against the view and the image, now
+            classify(slot);
+            return;
+        }
         const Placement& p = records[slot].at;
         bool seen = false;
         forEachTouchedVoxel<D>(
@@ -531,12 +547,76 @@ template <int D> struct Culler<D>::Impl {
         if (seen) addToPvs(slot);
     }
 
+    /// The hierarchical traversal's verdict on an object held in O and I (or parked), once per frame:
+    /// in the PVS unless its bounds miss the view or the occlusion image hides it; a visible object is
+    /// drawn into the image (shrunk by its conversion slack and the camera's), so it hides what follows.
+    /// Sound whatever the order: every pixel depth in the image is a true bound when it is written.
+    template <class View> void classify(ObjectSlot slot, const View& view) {
+        if (classifiedStamp[slot] == frame) return;
+        classifiedStamp[slot] = frame;
+        const Record& r = records[slot];
+        if (r.state != State::Tracked && r.state != State::Static) {
+            addToPvs(slot); // parked: no placement to test
+            return;
+        }
+        const double slack = grid.conversionSlack(r.at.worldMagnitude) + view.slack();
+        const Box<D> b = r.at.localBounds;
+        if (!view.touchesBox(b.min - slack, b.max + slack)) return;
+        if constexpr (D == 3) {
+            if (imageActive && traversalImage.hidden(r.at.local, slack)) {
+                ++result.stats.imageHidden;
+                return;
+            }
+            addToPvs(slot);
+            if (imageActive) traversalImage.draw(r.at.local, slack);
+        } else {
+            addToPvs(slot);
+        }
+    }
+    void classify(ObjectSlot slot) { classify(slot, *currentView); }
+
     void addToPvs(ObjectSlot slot) {
         if (pvsStamp[slot] == frame) return;
         pvsStamp[slot] = frame;
         records[slot].lastPvsFrame = frameIndex;
         result.pvs.push_back(records[slot].id);
         pvsSlots.push_back(slot);
+    }
+
+    /// CullerOptions::hierarchical: the brick-tree walk (BrickTraversal3D.hpp) with the occlusion image.
+    /// Ids met in visited voxels are classified (classify); a TBV met in a visited voxel that the image
+    /// does not hide is revealed. Why that reveals every TBV it must: a ray from the camera (outside every
+    /// boundary TBV, see updateScene) to a visible point x of a hidden object enters the TBV's region
+    /// through a point y of its boundary before x; y is visible (its open segment is part of x's), so the
+    /// voxel of y (a boundary voxel: T holds it) touches the view, lies in a brick the tree visits (every
+    /// node holding y is occupied, touches the view and is not hidden), and is not hidden in the image.
+    /// Objects reaching outside the grid are classified too: the image's facts hold for any point.
+    void traverseBricks(const ViewFrustum& view, CullStats& st) requires(D == 3) {
+        imageActive = options.occlusion && traversalImage.begin(view, options.traversalImageRows);
+        st.tbvLookupsSkipped = tbvs.liveRegions() == 0;
+        const BrickTraversalStats3D ts = brickTraversal.run(
+            grid, storage, view, imageActive ? &traversalImage : nullptr, frame,
+            [&](const IVec3& brick) { return tbvs.mayHoldBrick(brick); },
+            [&](VoxelKey key, const IVec3& v) {
+                if (tbvs.liveRegions() != 0) {
+                    revealScratch.clear();
+                    tbvs.collectAt(v, revealScratch);
+                    if (!revealScratch.empty() &&
+                        !(imageActive && traversalImage.hidden(Box<3>{Vec3(v), Vec3(v) + 1.0}, view.slack())))
+                        for (ObjectSlot slot : revealScratch) revealDuringTraversal(slot, st);
+                }
+                storage.forEachId(key, [&](ObjectSlot slot) { classify(slot, view); });
+            });
+        for (std::size_t i = 0; i < outside.size(); ++i) classify(outside[i], view);
+        st.layers = 0;
+        st.voxelsVisited = ts.voxelsVisited;
+        st.nodesVisited = ts.nodesVisited;
+        st.nodesEmpty = ts.nodesEmpty;
+        st.nodesHidden = ts.nodesHidden;
+        st.bricksVisited = ts.bricksVisited;
+        st.occludersExtended = ts.fusedBoxes;
+        st.occlusionSkipped = !imageActive || traversalImage.stats().occludersDrawn == 0;
+        imageActive = false;
     }
 
     /// CullerOptions::adaptiveCaps: after a frame, how many of the next frames start without caps.
@@ -602,6 +682,7 @@ template <int D> struct Culler<D>::Impl {
         if (++frame > DenseStorage<D>::kMaxStamp) { // past the stamps' range: one full clear, every 65,535 frames
             storage.resetStamps();
             std::fill(pvsStamp.begin(), pvsStamp.end(), 0);
+            std::fill(classifiedStamp.begin(), classifiedStamp.end(), 0);
             frame = 1;
         }
     }
@@ -629,7 +710,10 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
     updateScene(cameraIn, cameraVoxel, st);
     st.updateMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
-    if (cameraIn) {
+    currentView = &view;
+    if (D == 3 && cameraIn && options.hierarchical) {
+        if constexpr (D == 3) traverseBricks(view, st);
+    } else if (cameraIn) {
         st.tbvLookupsSkipped = hidden.empty();
         const bool deferCaps = D == 3 && options.adaptiveCaps && options.occlusion && capsSkip > 0;
         Traits::traverse(traversal, grid, storage, view, frame, options, !hidden.empty(), deferCaps, st,
@@ -669,6 +753,7 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
         }
     }
     for (std::size_t i = 0; i < parked.size(); ++i) addToPvs(parked[i]);
+    currentView = nullptr;
     havePrevCamera = cameraIn;
     prevCamera = cameraVoxel;
     query = nullptr;
@@ -697,6 +782,9 @@ template <int D> Culler<D>::Culler(const GridGeometry<D>& grid, const CullerOpti
     if (options.occlusionBufferRows < 0 || options.occlusionBufferRows > OcclusionBuffer3D::kMaxExtent)
         throw InvalidInput("options.occlusionBufferRows", "must be in [0, " + std::to_string(OcclusionBuffer3D::kMaxExtent) +
                                                                "], got " + std::to_string(options.occlusionBufferRows));
+    if (options.traversalImageRows < 1 || options.traversalImageRows > OcclusionBuffer3D::kMaxExtent)
+        throw InvalidInput("options.traversalImageRows", "must be in [1, " + std::to_string(OcclusionBuffer3D::kMaxExtent) +
+                                                              "], got " + std::to_string(options.traversalImageRows));
     if (options.tbvDiscretization != TbvDiscretization::Boundary && options.tbvDiscretization != TbvDiscretization::Filled &&
         options.tbvDiscretization != TbvDiscretization::Shell)
         throw InvalidInput("options.tbvDiscretization", "unknown value");
@@ -737,6 +825,7 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
         m.pvsStamp.push_back(0);
         m.statePos.push_back(kNone);
         m.outsidePos.push_back(kNone);
+        m.classifiedStamp.push_back(0);
         m.footprints.emplace_back();
     }
     typename Impl::Record& r = m.records[slot];

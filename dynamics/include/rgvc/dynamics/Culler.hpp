@@ -119,6 +119,12 @@ struct CullStats {
     std::uint32_t bufferTested = 0;       ///< 3D: grid-PVS objects tested against the occlusion buffer
     std::uint32_t bufferHidden = 0;       ///< of those, hidden by it and left out of the PVS
     double bufferMs = 0;                  ///< of cullMs: the occlusion buffer's time
+    // 3D hierarchical traversal (CullerOptions::hierarchical): the brick tree's work.
+    std::uint64_t nodesVisited = 0;       ///< brick-tree nodes (interior and bricks) taken out of the queue
+    std::uint64_t nodesEmpty = 0;         ///< of those, skipped as empty (no ids, no TBV below them)
+    std::uint64_t nodesHidden = 0;        ///< of those, skipped as hidden behind the occlusion image
+    std::uint64_t bricksVisited = 0;      ///< 8x8x8 bricks whose voxels were read
+    std::uint32_t imageHidden = 0;        ///< objects met in visited bricks that the traversal's image hid
 };
 
 struct CullResult {
@@ -188,6 +194,15 @@ struct CullerOptions {
     /// superset. On the paper's scene at 1-unit voxels the caps hide ~5% of the voxels and cost as much as
     /// the rest of the traversal; the occlusion buffer does the culling there. false: caps every frame.
     bool adaptiveCaps = true;
+    /// 3D only: the output-sensitive core (BrickTraversal3D.hpp). The grid's 8x8x8 bricks form an
+    /// implicit octree whose nodes know whether anything (an id or a TBV) lies below them; the tree is
+    /// walked front to back, empty nodes are skipped in O(1), every node is tested against a conservative
+    /// occlusion image of the occluders met so far (from the camera point, so it holds however walls are
+    /// turned), and only non-empty, not hidden bricks read their voxels. false: the paper's per-voxel
+    /// shell traversal with cap polygons (FrustumTraversal3D.hpp), kept to compare.
+    bool hierarchical = true;
+    /// 3D hierarchical only: [Pixels] [Limit] 1..2048. Rows of the traversal's occlusion image.
+    int traversalImageRows = 128;
 };
 
 template <int D> class Culler {

@@ -120,7 +120,7 @@ public:
                 IVec2 lo{-r1, -r2}, hi{r1, r2};
                 // A frustum within ~0.06 degrees of a half-space has edges nearly orthogonal to its axis: its
                 // truncated pyramid would be far too long to build accurately, so such a view scans whole
-                // faces (rowSpan still clips every row to the side planes). Found by fuzz_culler3d.
+                // faces (clipVoxelRow still clips every row to the side planes). Found by fuzz_culler3d.
                 if (!nearlyFlat && !crossSection(pyramid, a, sgn, k, b1, b2, lo, hi)) continue;
                 // Clip to the grid.
                 lo.x = std::max(lo.x, -c[b1]);
@@ -147,7 +147,7 @@ public:
                 for (std::int32_t v = lo.y; v <= hi.y; ++v) {
                     const IVec3 oRow = oFace + e2 * v;
                     std::int32_t u0 = lo.x, u1 = hi.x;
-                    if (!rowSpan(frustum, c, oRow, b1, u0, u1)) continue;
+                    if (!clipVoxelRow(frustum, c, oRow, b1, u0, u1)) continue;
                     const std::int64_t rowKey = std::int64_t(grid.linearIndex(c + oRow)); // u = 0 is in the grid
                     auto keyOf = [&](std::int32_t u) { return VoxelKey(rowKey + u * step); };
                     if (caps) m_spans[std::size_t(v - lo.y)] = {u0, u1};
@@ -399,48 +399,6 @@ private:
         lo.y = std::max<std::int32_t>(lo.y, std::int32_t(std::max(-1e9, std::ceil(min2 - 0.5 - eps))));
         hi.y = std::min<std::int32_t>(hi.y, std::int32_t(std::min(1e9, std::floor(max2 + 0.5 + eps))));
         return lo.x <= hi.x && lo.y <= hi.y;
-    }
-
-    /// Clips the row of voxels c + o with o[b1] in [u0, u1] to those that touch the frustum's cone, with
-    /// the same test as ViewFrustum::touchesCone (the box corner farthest along each inward side normal),
-    /// solved for the row coordinate: each side plane bounds u from one side. Cost O(1) per row instead
-    /// of four dot products per voxel.
-    static bool rowSpan(const ViewFrustum& f, const IVec3& c, const IVec3& o, int b1, std::int32_t& u0,
-                        std::int32_t& u1) {
-        const Vec3& apex = f.apex();
-        for (int i = 0; i < 4; ++i) {
-            const Vec3& n = f.sideNormal(i);
-            double rest = 0;
-            for (int ax = 0; ax < 3; ++ax) {
-                if (ax == b1) continue;
-                const double lo = double(c[ax] + o[ax]);
-                rest += n[ax] * ((n[ax] > 0 ? lo + 1.0 : lo) - apex[ax]);
-            }
-            // n_b1 * (x + delta - apex_b1) + rest >= -slack, x = c[b1] + u, delta = 1 if n_b1 > 0.
-            const double slack = f.slack() + 1e-12 * (std::abs(rest) + 1.0);
-            const double nb = n[b1];
-            if (nb == 0) {
-                if (rest < -slack) return false;
-                continue;
-            }
-            const double bound = (-slack - rest) / nb; // x + delta - apex_b1 >= bound (nb > 0) or <= (nb < 0)
-            // Clamped to +-1e9 before rounding (row offsets are far smaller; bound can be huge when nb is
-            // tiny), which also lets the rounding be integer conversions: std::ceil and std::floor are
-            // library calls on x86-64 without SSE4.1, and rowSpan runs for every row of every shell.
-            // A NaN bound (degenerate planes, found by fuzz_culler3d) clips nothing, as std::ceil's NaN did.
-            if (std::isnan(bound)) continue;
-            if (nb > 0) {
-                const double x = std::clamp(bound + apex[b1] - 1.0 - c[b1] - 1e-9, -1e9, 1e9);
-                const auto u = std::int32_t(x) + std::int32_t(double(std::int32_t(x)) < x); // ceil
-                if (u > u0) u0 = u;
-            } else {
-                const double x = std::clamp(bound + apex[b1] - c[b1] + 1e-9, -1e9, 1e9);
-                const auto u = std::int32_t(x) - std::int32_t(double(std::int32_t(x)) > x); // floor
-                if (u < u1) u1 = u;
-            }
-            if (u0 > u1) return false;
-        }
-        return true;
     }
 
     // Voxels around the visited rows that recordMargins reads (and tests against the caps). Measured on a

@@ -51,8 +51,10 @@ public:
         for (std::size_t i = 0; i < m_spans.size(); ++i) {
             const RowSpan& s = m_spans[i];
             if (i < m_touched) {
-                if (sign > 0) n += run(s.row, s.x0, s.x1, [&](VoxelKey k) { storage.addId(k, slot); });
-                else n += run(s.row, s.x0, s.x1, [&](VoxelKey k) { storage.removeId(k, slot); });
+                if (sign > 0) {
+                    n += run(s.row, s.x0, s.x1, [&](VoxelKey k) { storage.addId(k, slot); });
+                    noteAdded(storage, s.row, s.x0, s.x1);
+                } else n += run(s.row, s.x0, s.x1, [&](VoxelKey k) { storage.removeId(k, slot); });
             } else {
                 n += run(s.row, s.x0, s.x1, [&](VoxelKey k) { storage.addOpaque(k, sign); });
             }
@@ -69,9 +71,11 @@ public:
         const RowSpan* b = next.m_spans.data();
         std::uint64_t n = diff(a, a + m_touched, b, b + next.m_touched,
                                [&](VoxelKey k) { storage.removeId(k, slot); },
-                               [&](VoxelKey k) { storage.addId(k, slot); });
+                               [&](VoxelKey k) { storage.addId(k, slot); },
+                               [&](VoxelKey row, std::int32_t x0, std::int32_t x1) { noteAdded(storage, row, x0, x1); });
         n += diff(a + m_touched, a + m_spans.size(), b + next.m_touched, b + next.m_spans.size(),
-                  [&](VoxelKey k) { storage.addOpaque(k, -1); }, [&](VoxelKey k) { storage.addOpaque(k, +1); });
+                  [&](VoxelKey k) { storage.addOpaque(k, -1); }, [&](VoxelKey k) { storage.addOpaque(k, +1); },
+                  [](VoxelKey, std::int32_t, std::int32_t) {});
         m_spans.assign(next.m_spans.begin(), next.m_spans.end()); // a copy, not a swap: no capacity drifts between objects
         m_touched = next.m_touched;
         return n;
@@ -92,6 +96,11 @@ public:
     }
 
 private:
+    /// Tells a storage with a block hierarchy (DenseStorage::noteIdsAdded) that ids came into a run.
+    template <class S> static void noteAdded(S& storage, VoxelKey row, std::int32_t x0, std::int32_t x1) {
+        if constexpr (requires { storage.noteIdsAdded(row, x0, x1); }) storage.noteIdsAdded(row, x0, x1);
+    }
+
     template <class Fn> static std::uint64_t run(VoxelKey row, std::int32_t x0, std::int32_t x1, Fn&& fn) {
         for (std::int32_t x = x0; x <= x1; ++x) fn(VoxelKey(row + std::uint32_t(x)));
         return x1 >= x0 ? std::uint64_t(x1 - x0) + 1 : 0;
@@ -101,23 +110,28 @@ private:
     /// sorted by row with one span per row. On a row held by both, with old span [a0, a1] and new [b0, b1],
     /// old \ new = [a0, min(a1, b0 - 1)] u [max(a0, b1 + 1), a1] (either part may be empty; disjoint spans
     /// leave all of [a0, a1] in exactly one part), and symmetrically for new \ old.
-    template <class Gone, class Came>
+    /// cameRun(row, x0, x1) is called once for every non-empty run of came() calls.
+    template <class Gone, class Came, class CameRun>
     static std::uint64_t diff(const RowSpan* a, const RowSpan* aEnd, const RowSpan* b, const RowSpan* bEnd, Gone&& gone,
-                              Came&& came) {
+                              Came&& came, CameRun&& cameRun) {
+        auto comeRun = [&](VoxelKey row, std::int32_t x0, std::int32_t x1) {
+            if (x0 <= x1) cameRun(row, x0, x1);
+            return run(row, x0, x1, came);
+        };
         std::uint64_t n = 0;
         while (a != aEnd || b != bEnd) {
             if (b == bEnd || (a != aEnd && a->row < b->row)) {
                 n += run(a->row, a->x0, a->x1, gone);
                 ++a;
             } else if (a == aEnd || b->row < a->row) {
-                n += run(b->row, b->x0, b->x1, came);
+                n += comeRun(b->row, b->x0, b->x1);
                 ++b;
             } else {
                 if (a->x0 != b->x0 || a->x1 != b->x1) {
                     n += run(a->row, a->x0, std::min(a->x1, b->x0 - 1), gone);
                     n += run(a->row, std::max(a->x0, b->x1 + 1), a->x1, gone);
-                    n += run(b->row, b->x0, std::min(b->x1, a->x0 - 1), came);
-                    n += run(b->row, std::max(b->x0, a->x1 + 1), b->x1, came);
+                    n += comeRun(b->row, b->x0, std::min(b->x1, a->x0 - 1));
+                    n += comeRun(b->row, std::max(b->x0, a->x1 + 1), b->x1);
                 }
                 ++a;
                 ++b;

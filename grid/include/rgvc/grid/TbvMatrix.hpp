@@ -374,6 +374,14 @@ public:
     bool allocated() const { return !m_heads.empty() || !m_voxels.empty(); }
     std::size_t incidences() const { return m_lists.size(); }
 
+    /// Whether some TBV may hold a voxel of brick b (brick coordinates, 8^3 voxels): false is a guarantee.
+    /// The Shell discretization keeps no brick lists, so while it is in use every brick may.
+    bool mayHoldBrick(const IVec3& b) const {
+        if (m_live == 0) return false;
+        if (!m_voxels.empty()) return true;
+        return !m_heads.empty() && m_heads[brickIndex(b)] != kNone;
+    }
+
 private:
     static constexpr std::size_t kSlices = std::size_t(1) << kBrickShift; // words per brick
     static constexpr std::int32_t kBrickMask = (1 << kBrickShift) - 1;

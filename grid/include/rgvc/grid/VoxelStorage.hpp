@@ -23,6 +23,7 @@
 //   V  visited     a frame stamp of the voxels the traversal visited (for stats and pictures).
 #pragma once
 
+#include "rgvc/grid/BrickPyramid.hpp"
 #include "rgvc/grid/GridGeometry.hpp"
 
 #include <algorithm>
@@ -149,7 +150,32 @@ public:
     static constexpr std::uint32_t kMaxStamp = 0xFFFF;
 
     explicit DenseStorage(const GridGeometry<D>& grid)
-        : m_cells(grid.voxelCount()), m_opaque(grid.voxelCount(), 0), m_used(grid.voxelCount(), 0) {}
+        : m_cells(grid.voxelCount()), m_opaque(grid.voxelCount(), 0), m_used(grid.voxelCount(), 0),
+          m_bricks(grid.resolution()), m_res(grid.resolution()) {}
+
+    /// The block hierarchy over the grid (BrickPyramid.hpp): which bricks may hold ids. Writers of ids
+    /// call noteIdsAdded for every run they add; readers that find a brick empty clear it.
+    BrickPyramid<D>& bricks() { return m_bricks; }
+    const BrickPyramid<D>& bricks() const { return m_bricks; }
+    /// Ids were added to voxels row + x0 .. row + x1 (row: the key of the row's voxel x = 0): marks their
+    /// bricks occupied. One division per run, not per voxel (RowFootprint calls it per span).
+    void noteIdsAdded(VoxelKey row, std::int32_t x0, std::int32_t x1) {
+        if (x1 < x0) return;
+        IVec<D> b;
+        std::uint32_t rest = std::uint32_t(row) / std::uint32_t(m_res.x);
+        for (int a = 1; a < D; ++a) {
+            if (a + 1 < D) {
+                b[a] = std::int32_t(rest % std::uint32_t(m_res[a])) >> BrickPyramid<D>::kBrickShift;
+                rest /= std::uint32_t(m_res[a]);
+            } else {
+                b[a] = std::int32_t(rest) >> BrickPyramid<D>::kBrickShift;
+            }
+        }
+        for (std::int32_t bx = x0 >> BrickPyramid<D>::kBrickShift; bx <= x1 >> BrickPyramid<D>::kBrickShift; ++bx) {
+            b.x = bx;
+            m_bricks.markOccupied(b);
+        }
+    }
 
     bool opaque(VoxelKey k) const { return (m_cells[k].head & kOpaqueBit) != 0; }
     /// delta is +1 or -1; the count never goes below zero when calls are paired.
@@ -255,6 +281,8 @@ private:
     std::vector<Cell> m_cells;
     std::vector<std::uint32_t> m_opaque; // O counts
     std::vector<std::uint16_t> m_used;
+    BrickPyramid<D> m_bricks;
+    IVec<D> m_res;
     SlotBucketPool m_ids;
     std::size_t m_inlineIds = 0; // ids stored in cells, not in m_ids
 };

@@ -1,0 +1,234 @@
+// The output-sensitive 3D traversal: the brick tree walked front to back, with occlusion from a
+// conservative image of the occluders met so far (DESIGN.md, "Point or region" and "Work follows the
+// visible, non-empty part of the view").
+//
+// Why not the shells. The per-voxel shell traversal (FrustumTraversal3D.hpp, §5.2-5.3) visits every
+// voxel of the view that is not in H, one by one, empty or not, so its cost is the view's volume; and
+// its caps hold only a thin strip of a wall that crosses the shells' faces at an angle, so a wall seen
+// obliquely leaks. Here:
+//   - the unit of work is a node of the implicit octree over 8x8x8 bricks (BrickPyramid.hpp). A node
+//     whose subtree holds no id and no TBV is skipped in O(1); a node outside the frustum is skipped;
+//     a node whose whole box is hidden in the occlusion image is skipped. Only the bricks left are read,
+//     voxel by voxel, and only along the rows' spans inside the frustum;
+//   - occlusion is an image over the camera's view (OcclusionBuffer3D.hpp), in which the caller draws
+//     each object it finds visible. A pixel's depth bounds the distance at which every ray of the pixel
+//     has entered some occluder's interior, so "a box is hidden" is a statement about the camera point
+//     and the box's whole extent: it does not depend on how a wall is turned against the grid, the
+//     shells or the view.
+//
+// Order. Children are visited nearest first: with near = the child on the camera's side of the node's
+// split plane on each axis, child near ^ i for i = 0, 1, ..., 7. A ray crosses each split plane at most
+// once, from the near to the far side, so the children it meets have growing sets of flipped bits, and
+// a child with a superset of another's flipped bits has a larger i: no child is visited before one that
+// can lie in front of it along a ray. The order matters only for effectiveness (occluders drawn before
+// what they hide is tested); soundness does not depend on it, because every fact in the image is true
+// whenever it was drawn.
+//
+// Soundness of a skipped node. (1) Empty: nothing in it can enter the PVS or reveal a TBV. (2) Outside
+// the frustum (ViewFrustum::touchesBox is conservative): no point of it is in view. (3) Hidden: every
+// point of the box in view is behind occluders (OcclusionBuffer3D::hidden, with the box grown by the
+// camera's slack). An object whose every point lies in skipped nodes is not visible; an object with a
+// visible point p is met in the brick holding p, whose every ancestor holds p too and so is neither
+// empty nor outside nor hidden. A TBV is revealed the same way (see Culler.cpp): a ray from the camera
+// to a visible point of a hidden object enters the TBV through a visible boundary voxel.
+//
+// Cost: O(nodes tested) + O(voxels of the visited bricks' in-frustum spans); nothing per voxel of empty
+// or hidden space. An empty grid visits one node.
+#pragma once
+
+#include "rgvc/grid/BrickPyramid.hpp"
+#include "rgvc/grid/GridGeometry.hpp"
+#include "rgvc/grid/OcclusionBuffer3D.hpp"
+#include "rgvc/grid/ViewFrustum.hpp"
+#include "rgvc/grid/VoxelStorage.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace rgvc {
+
+struct BrickTraversalStats3D {
+    std::uint64_t nodesVisited = 0;  ///< nodes taken from the stack
+    std::uint64_t nodesEmpty = 0;    ///< of those, skipped: nothing below them
+    std::uint64_t nodesOutside = 0;  ///< of those, skipped: outside the frustum
+    std::uint64_t nodesHidden = 0;   ///< of those, skipped: hidden in the occlusion image
+    std::uint64_t bricksVisited = 0; ///< bricks whose voxels were read
+    std::uint64_t bricksCleared = 0; ///< of those, found empty and cleared in the pyramid
+    std::uint64_t voxelsVisited = 0; ///< voxels of those bricks inside the frustum
+    std::uint64_t fusedBoxes = 0;    ///< boxes of opaque voxels drawn as occluders (drawFusedBox)
+};
+
+template <VoxelStorage Storage> class BrickTraversal3D {
+public:
+    /// Walks the brick tree of `storage` for one frame.
+    /// @param image      the occlusion image (begun for `frustum`), or null for none (view-frustum culling).
+    ///                   The caller draws into it from onVoxel; nodes are tested against it as it grows.
+    /// @param mayHoldTbv bool(IVec3 brick): whether a TBV may hold a voxel of that brick (false: a guarantee).
+    /// @param onVoxel    void(VoxelKey, IVec3 voxel): called for every voxel of a visited brick that touches
+    ///                   the frustum and holds ids, or lies in a brick that may hold a TBV. Its visited mark
+    ///                   is set (stamp). It may add ids to the storage (a revealed object) and draw.
+    template <class MayHoldTbv, class OnVoxel>
+    BrickTraversalStats3D run(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum,
+                              OcclusionBuffer3D* image, std::uint32_t stamp, MayHoldTbv&& mayHoldTbv,
+                              OnVoxel&& onVoxel) {
+        BrickTraversalStats3D st;
+        BrickPyramid<3>& tree = storage.bricks();
+        const IVec3 res = grid.resolution();
+        const Vec3& apex = frustum.apex();
+        const double grow = frustum.slack();
+        m_stack.clear();
+        m_stack.push_back({tree.levels() - 1, IVec3(0)});
+        while (!m_stack.empty()) {
+            const Node n = m_stack.back();
+            m_stack.pop_back();
+            ++st.nodesVisited;
+            if (!tree.occupied(n.level, n.c)) {
+                ++st.nodesEmpty;
+                continue;
+            }
+            const std::int32_t side = BrickPyramid<3>::kBrickSize << n.level; // voxels per axis
+            const IVec3 lo = n.c * side;
+            const IVec3 hi = glm::min(lo + side, res);
+            const Vec3 loF(lo), hiF(hi);
+            if (!frustum.touchesBox(loF, hiF)) {
+                ++st.nodesOutside;
+                continue;
+            }
+            if (image != nullptr && image->hidden(Box<3>{loF, hiF}, grow)) {
+                ++st.nodesHidden;
+                continue;
+            }
+            if (n.level == 0) {
+                visitBrick(grid, storage, frustum, image, n.c, lo, hi, stamp, mayHoldTbv(n.c), onVoxel, st);
+                continue;
+            }
+            // Children nearest first: pushed in reverse order, so near ^ 0 pops first.
+            const IVec3 dims = tree.dims(n.level - 1);
+            const std::int32_t half = side >> 1;
+            int near = 0;
+            for (int a = 0; a < 3; ++a)
+                if (apex[a] >= double(lo[a] + half)) near |= 1 << a;
+            for (int i = 7; i >= 0; --i) {
+                const int bits = near ^ i;
+                const IVec3 cc{2 * n.c.x + (bits & 1), 2 * n.c.y + ((bits >> 1) & 1), 2 * n.c.z + ((bits >> 2) & 1)};
+                if (cc.x >= dims.x || cc.y >= dims.y || cc.z >= dims.z) continue;
+                m_stack.push_back({n.level - 1, cc});
+            }
+        }
+        return st;
+    }
+
+private:
+    struct Node {
+        int level;
+        IVec3 c;
+    };
+
+    template <class OnVoxel>
+    void visitBrick(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D* image,
+                    const IVec3& brick, const IVec3& lo, const IVec3& hi, std::uint32_t stamp, bool tbvHere,
+                    OnVoxel& onVoxel, BrickTraversalStats3D& st) {
+        ++st.bricksVisited;
+        const bool hasFar = !std::isinf(frustum.far());
+        bool anyIds = false;
+        // Pass 1: per row, which voxels hold ids, and the span inside the frustum; opaque voxels in view
+        // start fused occluders (drawFusedBox) before any id of the brick is classified, so that a wall
+        // hides what lies behind it in the same brick.
+        int rows = 0;
+        for (std::int32_t z = lo.z; z < hi.z; ++z)
+            for (std::int32_t y = lo.y; y < hi.y; ++y) {
+                RowInfo& r = m_rows[std::size_t(rows++)];
+                r.key = grid.linearIndex(IVec3{0, y, z});
+                r.y = y;
+                r.z = z;
+                std::uint32_t ids = 0, opaque = 0; // bit x - lo.x
+                for (std::int32_t x = lo.x; x < hi.x; ++x) {
+                    const VoxelKey k(r.key + std::uint32_t(x));
+                    ids |= std::uint32_t(storage.hasIds(k)) << (x - lo.x);
+                    opaque |= std::uint32_t(storage.opaque(k)) << (x - lo.x);
+                }
+                anyIds = anyIds || ids != 0;
+                r.ids = ids;
+                r.u0 = lo.x;
+                r.u1 = hi.x - 1;
+                if (!clipVoxelRow(frustum, IVec3(0), IVec3{0, y, z}, 0, r.u0, r.u1)) r.u0 = 1, r.u1 = 0;
+                if (image == nullptr || opaque == 0) continue;
+                for (std::int32_t x = r.u0; x <= r.u1; ++x)
+                    if (((opaque >> (x - lo.x)) & 1) != 0 && !storage.used(VoxelKey(r.key + std::uint32_t(x)), stamp))
+                        drawFusedBox(grid, storage, frustum, *image, IVec3{x, y, z}, stamp, st);
+            }
+        // Pass 2: visit the spans.
+        for (int i = 0; i < rows; ++i) {
+            const RowInfo& r = m_rows[std::size_t(i)];
+            for (std::int32_t x = r.u0; x <= r.u1; ++x) {
+                const IVec3 v{x, r.y, r.z};
+                if (hasFar && !frustum.withinFar(Vec3(v), Vec3(v) + 1.0)) continue;
+                const VoxelKey key(r.key + std::uint32_t(x));
+                storage.setVisited(key, stamp);
+                ++st.voxelsVisited;
+                if (tbvHere || ((r.ids >> (x - lo.x)) & 1) != 0) onVoxel(key, v);
+            }
+        }
+        // Nothing in it. (onVoxel, which may add ids, ran for no voxel of this brick then.)
+        if (!anyIds && !tbvHere) {
+            storage.bricks().markEmpty(brick);
+            ++st.bricksCleared;
+        }
+    }
+
+    /// Occluder fusion from O (the 3D counterpart of §4.3's extension). Objects are drawn into the image
+    /// one by one, and a pixel counts for an occluder only if its whole cone passes through that one
+    /// occluder, so a wall of boxes sharing faces would leave every seam open. O is their union (a voxel is
+    /// opaque when it lies inside an object), so a box of opaque voxels is a single convex occluder however
+    /// many objects make it. From an opaque voxel not yet used this frame: the longest opaque run along x
+    /// through it (both ways), then grown along y while the whole run is opaque, then along z while the
+    /// whole rectangle is, each side at most kMaxGrow voxels. The box may reach into voxels already used or
+    /// outside the view: boxes that overlap are what fuses two walls meeting at a corner (a pixel on the
+    /// corner's silhouette is inside one of them as long as the shared voxels span at least a pixel).
+    /// Its voxels are marked used so that they start no other box. Drawn shrunk by the camera's slack
+    /// (O already keeps the objects' conversion slack: its voxels are inside by that margin).
+    void drawFusedBox(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D& image,
+                      const IVec3& v, std::uint32_t stamp, BrickTraversalStats3D& st) {
+        const IVec3 res = grid.resolution();
+        auto opaqueAt = [&](std::int32_t x, std::int32_t y, std::int32_t z) {
+            return storage.opaque(grid.linearIndex(IVec3{x, y, z}));
+        };
+        IVec3 lo = v, hi = v; // inclusive
+        while (hi.x + 1 < res.x && hi.x - v.x < kMaxGrow && opaqueAt(hi.x + 1, v.y, v.z)) ++hi.x;
+        while (lo.x > 0 && v.x - lo.x < kMaxGrow && opaqueAt(lo.x - 1, v.y, v.z)) --lo.x;
+        auto rowOpaque = [&](std::int32_t y, std::int32_t z) {
+            for (std::int32_t x = lo.x; x <= hi.x; ++x)
+                if (!opaqueAt(x, y, z)) return false;
+            return true;
+        };
+        while (hi.y + 1 < res.y && hi.y - v.y < kMaxGrow && rowOpaque(hi.y + 1, v.z)) ++hi.y;
+        while (lo.y > 0 && v.y - lo.y < kMaxGrow && rowOpaque(lo.y - 1, v.z)) --lo.y;
+        auto sliceOpaque = [&](std::int32_t z) {
+            for (std::int32_t y = lo.y; y <= hi.y; ++y)
+                if (!rowOpaque(y, z)) return false;
+            return true;
+        };
+        while (hi.z + 1 < res.z && hi.z - v.z < kMaxGrow && sliceOpaque(hi.z + 1)) ++hi.z;
+        while (lo.z > 0 && v.z - lo.z < kMaxGrow && sliceOpaque(lo.z - 1)) --lo.z;
+        for (std::int32_t z = lo.z; z <= hi.z; ++z)
+            for (std::int32_t y = lo.y; y <= hi.y; ++y) {
+                const VoxelKey row = grid.linearIndex(IVec3{0, y, z});
+                for (std::int32_t x = lo.x; x <= hi.x; ++x) storage.setUsed(VoxelKey(row + std::uint32_t(x)), stamp);
+            }
+        image.draw(Box<3>{Vec3(lo), Vec3(hi + 1)}, frustum.slack());
+        ++st.fusedBoxes;
+    }
+
+    struct RowInfo {
+        VoxelKey key = 0;
+        std::int32_t y = 0, z = 0, u0 = 0, u1 = -1;
+        std::uint32_t ids = 0;
+    };
+    static constexpr std::int32_t kMaxGrow = 64;
+    std::array<RowInfo, 64> m_rows{}; // a brick's 8 x 8 rows
+    std::vector<Node> m_stack;
+};
+
+} // namespace rgvc
