@@ -16,6 +16,8 @@
 #include "SlotSet.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <chrono>
 #include <exception>
 #include <utility>
@@ -565,8 +567,10 @@ template <int D> struct Culler<D>::Impl {
         if constexpr (D == 3) {
             if (imageActive && traversalImage.hidden(r.at.local, slack)) {
                 ++result.stats.imageHidden;
+                if (std::getenv("RGVC_DBG")) std::fprintf(stderr, "hidden %d\n", int(r.id));
                 return;
             }
+            if (std::getenv("RGVC_DBG")) std::fprintf(stderr, "visible %d\n", int(r.id));
             addToPvs(slot);
             if (imageActive) traversalImage.draw(r.at.local, slack);
         } else {

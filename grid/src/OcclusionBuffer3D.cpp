@@ -114,6 +114,112 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec
     return pixelsOf(x0 - padX, x1 + padX, y0 - padY, y1 + padY);
 }
 
+bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f) const {
+    // The box's points in the view at distance >= nearest have z >= zMin (zMinOf), so the image of the box
+    // clipped to the half-space z >= zMin holds every pixel that can show one of them. The clipped box is a
+    // convex polytope whose vertices are the corners with z >= zMin and the points where the box's edges
+    // cross the plane z = zMin; its image is the convex hull of their images (a central projection maps
+    // segments in front of the apex to segments).
+    double zc[8];
+    Vec3 q[8];
+    bool anyFront = false;
+    for (int k = 0; k < 8; ++k) {
+        q[k] = Vec3{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+        zc[k] = glm::dot(q[k], m_forward);
+        anyFront = anyFront || zc[k] >= zMin;
+    }
+    f.n = 0;
+    if (!(zMin > 0)) {
+        f.rect = wholeImage();
+        return true;
+    }
+    if (!anyFront) return false; // no point of the box in view
+    double px[20], py[20];
+    int n = 0;
+    auto add = [&](const Vec3& p, double z) {
+        px[n] = glm::dot(p, m_right) / z;
+        py[n] = glm::dot(p, m_up) / z;
+        ++n;
+    };
+    for (int k = 0; k < 8; ++k) {
+        if (zc[k] >= zMin) add(q[k], zc[k]);
+        for (int a = 0; a < 3; ++a) { // the edge from corner k to the corner differing in bit a
+            const int m = k ^ (1 << a);
+            if (m < k || (zc[k] >= zMin) == (zc[m] >= zMin)) continue;
+            const double t = (zMin - zc[k]) / (zc[m] - zc[k]);
+            add(q[k] + (q[m] - q[k]) * t, zMin);
+        }
+    }
+    double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf;
+    for (int k = 0; k < n; ++k) {
+        x0 = std::min(x0, px[k]);
+        x1 = std::max(x1, px[k]);
+        y0 = std::min(y0, py[k]);
+        y1 = std::max(y1, py[k]);
+    }
+    if (!(x0 <= x1) || !(y0 <= y1) || !std::isfinite(x0 + x1 + y0 + y1)) {
+        f.rect = wholeImage();
+        return true;
+    }
+    f.padX = 1e-7 * (std::abs(x0) + std::abs(x1) + 1.0);
+    f.padY = 1e-7 * (std::abs(y0) + std::abs(y1) + 1.0);
+    f.rect = pixelsOf(x0 - f.padX, x1 + f.padX, y0 - f.padY, y1 + f.padY);
+    // The hull (Andrew's monotone chain; at most 20 points, so sorting by hand is not worth a dependency).
+    int idx[20];
+    for (int k = 0; k < n; ++k) idx[k] = k;
+    std::sort(idx, idx + n, [&](int a, int b) { return px[a] < px[b] || (px[a] == px[b] && py[a] < py[b]); });
+    auto cross = [&](int o, int a, int b) { return (px[a] - px[o]) * (py[b] - py[o]) - (py[a] - py[o]) * (px[b] - px[o]); };
+    int hull[40], h = 0;
+    for (int k = 0; k < n; ++k) {
+        while (h >= 2 && cross(hull[h - 2], hull[h - 1], idx[k]) <= 0) --h;
+        hull[h++] = idx[k];
+    }
+    for (int k = n - 2, lower = h + 1; k >= 0; --k) {
+        while (h >= lower && cross(hull[h - 2], hull[h - 1], idx[k]) <= 0) --h;
+        hull[h++] = idx[k];
+    }
+    f.n = std::max(h - 1, 1); // the last point repeats the first
+    for (int k = 0; k < f.n; ++k) {
+        f.x[k] = px[hull[k]];
+        f.y[k] = py[hull[k]];
+    }
+    return true;
+}
+
+bool OcclusionBuffer3D::rowSpan(const Footprint& f, int j, int& i0, int& i1) const {
+    i0 = f.rect.i0;
+    i1 = f.rect.i1;
+    if (f.n == 0) return true;
+    // The hull's x range over the pixel row's band of y (grown by the padding): every edge clipped to
+    // the band contributes its clipped end points (a convex polygon meets a band in a convex set whose
+    // x extremes lie on its boundary, i.e. on the clipped edges).
+    const double ya = -m_halfH + j * m_pixelH - f.padY, yb = ya + m_pixelH + 2 * f.padY;
+    double x0 = kInf, x1 = -kInf;
+    for (int k = 0; k < f.n; ++k) {
+        const int m = k + 1 == f.n ? 0 : k + 1;
+        double ax = f.x[k], ay = f.y[k], bx = f.x[m], by = f.y[m];
+        if (ay > by) {
+            std::swap(ax, bx);
+            std::swap(ay, by);
+        }
+        if (by < ya || ay > yb) continue;
+        double t0 = 0, t1 = 1;
+        if (by > ay) {
+            t0 = std::max(0.0, (ya - ay) / (by - ay));
+            t1 = std::min(1.0, (yb - ay) / (by - ay));
+        }
+        const double xa = ax + (bx - ax) * t0, xb = ax + (bx - ax) * t1;
+        x0 = std::min({x0, xa, xb});
+        x1 = std::max({x1, xa, xb});
+    }
+    if (!(x0 <= x1)) return false;
+    const double yMid = -m_halfH + (j + 0.5) * m_pixelH; // any y of the row: only the columns are wanted
+    const PixelRect r = pixelsOf(x0 - f.padX, x1 + f.padX, yMid, yMid);
+    i0 = std::max(i0, r.i0);
+    i1 = std::min(i1, r.i1);
+    return r.i0 <= r.i1 && i0 <= i1;
+}
+
 double OcclusionBuffer3D::nearestDistance(const Shape<3>& shape, double grow) const {
     if (const auto* b = std::get_if<Ball<3>>(&shape))
         return std::max(0.0, std::sqrt(lengthSquared<3>(b->center - m_apex)) - (b->radius + grow));
@@ -125,22 +231,95 @@ double OcclusionBuffer3D::nearestDistance(const Shape<3>& shape, double grow) co
 bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distance) {
     if (!m_active) return false;
     ++m_stats.tested;
+    Vec3 lo, hi; // the shape's bounding box grown, relative to the apex
     const double nearest = distance * (1 - kRelMargin);
     if (!(nearest > 0)) return false;
-    PixelRect r;
-    if (const auto* b = std::get_if<Ball<3>>(&shape))
-        r = rectOf(b->center - m_apex, b->radius + grow);
-    else {
+    Footprint f;
+    bool inView;
+    if (const auto* b = std::get_if<Ball<3>>(&shape)) {
+        const Vec3 c = b->center - m_apex;
+        const double rad = b->radius + grow;
+        lo = c - rad;
+        hi = c + rad;
+        // The bounding box's footprint, cut to the sphere's tangent rectangle where it lies in front.
+        inView = footprintOf(lo, hi, zMinOf(nearest), f);
+        if (inView && glm::dot(c, m_forward) > rad * 1.001) {
+            const PixelRect t = rectOf(c, rad);
+            f.rect = {std::max(f.rect.i0, t.i0), std::min(f.rect.i1, t.i1), std::max(f.rect.j0, t.j0), std::min(f.rect.j1, t.j1)};
+        }
+    } else {
         const Box<3>& box = std::get<Box<3>>(shape);
-        r = rectOf(box.min - grow - m_apex, box.max + grow - m_apex);
+        lo = box.min - grow - m_apex;
+        hi = box.max + grow - m_apex;
+        inView = footprintOf(lo, hi, zMinOf(nearest), f);
     }
-    if (r.i0 > r.i1) return false; // its image misses the buffer: left to the grid's verdict
+    if (!inView || scanFootprint(f, nearest)) {
+        ++m_stats.hidden;
+        return true;
+    }
+    // Refinement: the test compares every pixel with the shape's single nearest distance, and a
+    // rectangle is larger than the image of a sphere or of a box seen at an angle, so an object just
+    // behind a wall fails on pixels at the edge of its rectangle (where the wall is crossed farther out
+    // than the object's nearest point is, or which show no part of it at all). The bounding box is then
+    // split into 8 and each part tested with its own rectangle and nearest distance, two levels deep.
+    // Sound: the parts cover the shape, and each part's test is the same conservative test. Cheap where
+    // it cannot succeed: a point of the box in view whose pixel is not covered nearer than that point
+    // belongs to some part at every level, and that part's test would fail on that pixel; the box's
+    // centre is checked first.
+    if (!canHide(0.5 * (lo + hi))) return false;
+    if (!hiddenParts(lo, hi, 2)) return false;
+    ++m_stats.hidden;
+    return true;
+}
+
+bool OcclusionBuffer3D::canHide(const Vec3& p) const {
+    const double z = glm::dot(p, m_forward);
+    if (!(z > 0)) return true;
+    const double x = glm::dot(p, m_right) / z, y = glm::dot(p, m_up) / z;
+    if (!(std::abs(x) < m_halfW) || !(std::abs(y) < m_halfH)) return true; // not in the image: no verdict
+    const int i = std::min(m_cols - 1, int((x + m_halfW) / m_pixelW));
+    const int j = std::min(m_rows - 1, int((y + m_halfH) / m_pixelH));
+    return m_depth[std::size_t(j) * std::size_t(m_cols) + std::size_t(i)] < std::sqrt(lengthSquared<3>(p)) * (1 - kRelMargin);
+}
+
+double OcclusionBuffer3D::zMinOf(double nearest) const {
+    // A point of the view at distance r from the apex has z >= r / sqrt(1 + halfW^2 + halfH^2) (its image
+    // coordinates are within the half extents), so a shape's points in view, all at distance >= nearest,
+    // have z >= zMin: a shape reaching behind the camera is clipped there instead of taking the whole image
+    // (an occludee behind the camera would otherwise need every pixel below its nearest distance).
+    return nearest * (1 - kRelMargin) / std::sqrt(1 + m_halfW * m_halfW + m_halfH * m_halfH);
+}
+
+bool OcclusionBuffer3D::scanFootprint(const Footprint& f, double nearest) const {
+    // An image that misses the view's rectangle: every point of the shape in view would project inside
+    // the (padded) footprint, so no point of it is in view, and nothing of it can be seen.
+    const PixelRect& r = f.rect;
+    if (r.i0 > r.i1) return true;
     for (int j = r.j0; j <= r.j1; ++j) {
+        int i0, i1;
+        if (!rowSpan(f, j, i0, i1)) continue;
         const double* row = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
-        for (int i = r.i0; i <= r.i1; ++i)
+        for (int i = i0; i <= i1; ++i)
             if (!(row[i] < nearest)) return false;
     }
-    ++m_stats.hidden;
+    return true;
+}
+
+bool OcclusionBuffer3D::hiddenParts(const Vec3& lo, const Vec3& hi, int levels) const {
+    const Vec3 mid = 0.5 * (lo + hi);
+    for (int k = 0; k < 8; ++k) {
+        Vec3 l, h;
+        for (int a = 0; a < 3; ++a) {
+            const bool upper = ((k >> a) & 1) != 0;
+            l[a] = upper ? mid[a] : lo[a];
+            h[a] = upper ? hi[a] : mid[a];
+        }
+        const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), l, h))) * (1 - kRelMargin);
+        if (!(nearest > 0)) return false;
+        Footprint f;
+        if (!footprintOf(l, h, zMinOf(nearest), f) || scanFootprint(f, nearest)) continue;
+        if (levels <= 1 || !canHide(0.5 * (l + h)) || !hiddenParts(l, h, levels - 1)) return false;
+    }
     return true;
 }
 

@@ -101,6 +101,27 @@ private:
     /// Outer rectangle of the image of a sphere / box (relative to the apex).
     PixelRect rectOf(const Vec3& c, double radius) const;
     PixelRect rectOf(const Vec3& lo, const Vec3& hi) const;
+    /// The image of an occludee: a convex polygon in image coordinates (n = 0: its rectangle only), the
+    /// pixels it can touch, and the padding that covers the projection's rounding.
+    struct Footprint {
+        PixelRect rect{0, -1, 0, -1};
+        int n = 0;
+        double padX = 0, padY = 0;
+        double x[20], y[20];
+    };
+    /// The footprint of the box (apex-relative) clipped to z >= zMin (z along forward). False when no
+    /// point of the box has z >= zMin (none is in view).
+    bool footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f) const;
+    /// The columns of pixel row j the footprint can touch; false when none.
+    bool rowSpan(const Footprint& f, int j, int& i0, int& i1) const;
+    /// Occludee tests (OcclusionBuffer3D.cpp): the smallest z of a point in view at distance >= nearest;
+    /// every pixel of a footprint covered nearer than `nearest`; whether the pixel of point p (apex-relative)
+    /// is covered nearer than p (else no part holding p can be hidden); the 8 halves of a box tested one
+    /// by one, `levels` deep.
+    double zMinOf(double nearest) const;
+    bool scanFootprint(const Footprint& f, double nearest) const;
+    bool canHide(const Vec3& p) const;
+    bool hiddenParts(const Vec3& lo, const Vec3& hi, int levels) const;
     /// 1 / |forward + x_i right + y_j up| = 1 / sqrt(1 + x_i^2 + y_j^2) for lattice corner (i, j).
     double invLength(int i, int j) const { return m_invLen[std::size_t(j) * std::size_t(m_cols + 1) + std::size_t(i)]; }
     /// Draws an occluder over rectangle r. fillRow(j, i0, i1, out) writes out[i] for i in [i0, i1]: the entry
