@@ -1,0 +1,892 @@
+// rgvc_bench_classes: culling time, work and accuracy of the culler across classes of scenes.
+//
+// Speed is measured here, never asserted in tests. Each scene is built here from a fixed seed (the paper's
+// scene comes from reference::movingSpheres3D, the same generator rgvc_bench3d uses), run for a number of
+// frames with a moving camera, and culled by every variant of the culler:
+//   3D: new  (default CullerOptions: hierarchical = true, the output-sensitive brick-tree core),
+//       old  (hierarchical = false: the paper's per-voxel shell traversal),
+//       vfc  (occlusion = false: grid view-frustum culling only; its |PVS| is the scene's |VFC|);
+//   2D: default, vfc.
+// The variants run interleaved frame by frame in one process: one scene, moved once per frame, and one
+// culler per variant, each culling the same camera with the same placement query (the pull interface,
+// cull(camera, placementOf)); the order of the variants rotates from frame to frame so that none is always
+// the first one after the motion and the reference (cold caches). The application moves the objects: per
+// axis, a step that would leave the grid or overlap one of the scene's obstacles (e.g. the room's outer
+// box, the buildings) flips that velocity component instead, so moving objects never enter an obstacle
+// and move at most |velocity| = their maxSpeed per frame.
+//
+// Accuracy: every K-th measured frame is checked against the reference (3D: reference::visible3D at 128
+// grid and 8 target divisions with critical rays, as rgvc_bench3d's accuracy scenario; 2D:
+// reference::exactVisible2D), given only the objects that touch the view region (exact: the view region
+// is convex and holds the camera, so a segment from the camera to a point in it meets only objects that
+// touch it; the eps is the whole scene's). K comes from --ref-every, or else from the first check's cost:
+// the reference gets about kReferenceBudgetMs per scene. A miss (a visible object not in a PVS) is printed
+// at once with the scene written to /tmp, counted in the table, and makes the run exit 1.
+// |PVS|/|visible| is averaged over the checked frames where something is visible and the camera is not
+// inside an object (from inside one the reference sees that object only).
+//
+//   rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] [--quick]
+//
+// --quick: 3 measured frames after 1 warm-up, every frame checked, small object counts, room-1k only
+// among the rooms and a 256^3 empty grid (a smoke test: a few seconds). Output: a header (machine,
+// scenes), one markdown table on stdout, then the reference notes per scene; a progress line on stderr
+// when it is a terminal. Exit 0, 1 on any miss (or error), 2 on a bad flag.
+#include "rgvc/dynamics/Culler.hpp"
+
+#include "BenchSupport.hpp"
+
+#include "ExactVisibility2D.hpp"
+#include "ExactVisibility3D.hpp"
+#include "RandomScenes2D.hpp"
+#include "RandomScenes3D.hpp"
+#include "SeededRandom.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+using namespace rgvc;
+namespace ref = rgvc::reference;
+using namespace rgvc::bench;
+using rgvc::reference::seeded::chance;
+using rgvc::reference::seeded::logUniform;
+using rgvc::reference::seeded::uniform;
+using rgvc::reference::seeded::uniform01;
+using rgvc::reference::seeded::uniformInt;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kReferenceBudgetMs = 3000; // per scene, when --ref-every is not given
+
+// ---------------------------------------------------------------------------------------------------
+// Scenes
+
+template <int D> struct World {
+    std::string name;
+    std::string description;
+    GridGeometry<D> grid;
+    std::vector<ObjectDesc<D>> objects;   ///< id = index; shape = current placement
+    std::vector<Vec<D>> velocity;         ///< per object, zero for still ones; |velocity| = maxSpeed
+    std::vector<Box<D>> obstacles;        ///< moving objects bounce off these and off the grid bounds
+    std::function<Camera<D>(int)> camera; ///< frame index, warm-up included
+    std::function<void(World&)> step;     ///< replaces the default motion (the paper's scene)
+    int maxFrames = 0;                    ///< 0: as many as asked
+};
+
+template <int D> bool overlapsOpen(const Box<D>& a, const Box<D>& b) {
+    for (int k = 0; k < D; ++k)
+        if (!(a.min[k] < b.max[k] && a.max[k] > b.min[k])) return false;
+    return true;
+}
+
+template <int D> Box<D> gridBox(const GridGeometry<D>& g) {
+    Box<D> b{g.origin(), g.origin()};
+    for (int k = 0; k < D; ++k)
+        b.max[k] += g.voxelSize() * g.resolution()[k];
+    return b;
+}
+
+/// True when the bounds lie inside the grid and overlap no obstacle.
+template <int D> bool freePlace(const World<D>& w, const Box<D>& b) {
+    const Box<D> g = gridBox(w.grid);
+    for (int k = 0; k < D; ++k)
+        if (b.min[k] < g.min[k] || b.max[k] > g.max[k]) return false;
+    for (const Box<D>& o : w.obstacles)
+        if (overlapsOpen(b, o)) return false;
+    return true;
+}
+
+/// One frame of the default motion: per axis, move by the velocity unless that leaves the grid or
+/// overlaps an obstacle, in which case that component flips (and the object stays put on that axis).
+template <int D> void defaultStep(World<D>& w) {
+    for (std::size_t i = 0; i < w.objects.size(); ++i) {
+        Vec<D>& v = w.velocity[i];
+        bool moving = false;
+        for (int k = 0; k < D; ++k)
+            moving = moving || v[k] != 0;
+        if (!moving) continue;
+        Box<D> b = boundsOf<D>(w.objects[i].shape);
+        Vec<D> delta{0.0};
+        for (int k = 0; k < D; ++k) {
+            if (v[k] == 0) continue;
+            Box<D> c = b;
+            c.min[k] += v[k];
+            c.max[k] += v[k];
+            if (freePlace(w, c)) {
+                b = c;
+                delta[k] = v[k];
+            } else {
+                v[k] = -v[k];
+            }
+        }
+        w.objects[i].shape = translated<D>(w.objects[i].shape, delta);
+    }
+}
+
+template <int D> void stepWorld(World<D>& w) {
+    if (w.step) w.step(w);
+    else defaultStep(w);
+}
+
+Vec3 unitVector3(std::mt19937_64& rng) {
+    for (;;) {
+        const Vec3 v{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)};
+        const double l2 = lengthSquared<3>(v);
+        if (l2 > 1e-4 && l2 <= 1) return v / std::sqrt(l2);
+    }
+}
+
+Vec2 unitVector2(std::mt19937_64& rng) {
+    const double a = uniform(rng, 0, 2 * kPi);
+    return {std::cos(a), std::sin(a)};
+}
+
+template <int D> void addStatic(World<D>& w, const Shape<D>& s) {
+    ObjectDesc<D> o;
+    o.id = ObjectId(w.objects.size());
+    o.shape = s;
+    o.isStatic = true;
+    w.objects.push_back(o);
+    w.velocity.push_back(Vec<D>{0.0});
+}
+
+/// A moving object at `shape` with velocity v (maxSpeed = |v|), or a still non-static one when v = 0.
+template <int D> void addMoving(World<D>& w, const Shape<D>& s, const Vec<D>& v) {
+    ObjectDesc<D> o;
+    o.id = ObjectId(w.objects.size());
+    o.shape = s;
+    o.isStatic = false;
+    o.maxSpeed = std::sqrt(lengthSquared<D>(v));
+    w.objects.push_back(o);
+    w.velocity.push_back(v);
+}
+
+/// Places a moving sphere of radius r uniformly in [lo, hi] (centres), clear of the obstacles; false after
+/// many failed tries.
+bool placeSphere(World<3>& w, std::mt19937_64& rng, double r, const Vec3& lo, const Vec3& hi, double speed) {
+    for (int attempt = 0; attempt < 1000; ++attempt) {
+        const Vec3 c{uniform(rng, lo.x, hi.x), uniform(rng, lo.y, hi.y), uniform(rng, lo.z, hi.z)};
+        const Ball<3> b{c, r};
+        if (!freePlace(w, boundsOf<3>(b))) continue;
+        addMoving<3>(w, b, unitVector3(rng) * speed);
+        return true;
+    }
+    return false;
+}
+
+Camera3 camera3(const Vec3& pos, const Vec3& dir) {
+    Camera3 c;
+    c.position = pos;
+    c.direction = dir;
+    c.fovDeg = 60;
+    c.aspect = 16.0 / 9.0;
+    return c;
+}
+
+/// 1. A closed room of six 1-voxel walls; `spheres` moving spheres outside it; the camera turns in place
+/// at the room's centre (a full turn every 120 frames, pitch +-0.2 rad).
+World<3> roomScene(const std::string& name, int spheres) {
+    World<3> w;
+    w.name = name;
+    w.grid = GridGeometry3(Vec3(0.0), 1.0, {128, 64, 128});
+    const Vec3 lo{39, 7, 39}, hi{89, 41, 89}; // outer box; interior [40,88] x [8,40] x [40,88]
+    addStatic<3>(w, Box<3>{lo, {lo.x + 1, hi.y, hi.z}});
+    addStatic<3>(w, Box<3>{{hi.x - 1, lo.y, lo.z}, hi});
+    addStatic<3>(w, Box<3>{lo, {hi.x, lo.y + 1, hi.z}});
+    addStatic<3>(w, Box<3>{{lo.x, hi.y - 1, lo.z}, hi});
+    addStatic<3>(w, Box<3>{lo, {hi.x, hi.y, lo.z + 1}});
+    addStatic<3>(w, Box<3>{{lo.x, lo.y, hi.z - 1}, hi});
+    w.obstacles.push_back(Box<3>{lo, hi});
+    std::mt19937_64 rng(0x500d + std::uint64_t(spheres));
+    for (int i = 0; i < spheres; ++i) {
+        const double r = logUniform(rng, 0.3, 1.5);
+        placeSphere(w, rng, r, Vec3(r), Vec3{128 - r, 64 - r, 128 - r}, uniform(rng, 0.1, 0.5));
+    }
+    w.camera = [](int f) {
+        const double yaw = 2 * kPi * f / 120.0, pitch = 0.2 * std::sin(2 * kPi * f / 45.0);
+        return camera3({64.3, 24.2, 64.1},
+                       {std::cos(yaw) * std::cos(pitch), std::sin(pitch), std::sin(yaw) * std::cos(pitch)});
+    };
+    w.description = "closed room (6 static walls), " + std::to_string(w.objects.size() - 6) +
+                    " moving spheres outside it, camera turning in place";
+    return w;
+}
+
+/// Spheres (60 %) and boxes in `clusters` bell-shaped clusters; `movingShare` of them move.
+void addClusters(World<3>& w, std::mt19937_64& rng, int count, int clusters, double movingShare, double scattered,
+                 const Vec3& cLo, const Vec3& cHi, double spreadLo, double spreadHi, double maxSize) {
+    const Box<3> g = gridBox(w.grid);
+    std::vector<Vec3> centres;
+    std::vector<double> spreads;
+    for (int k = 0; k < clusters; ++k) {
+        centres.push_back({uniform(rng, cLo.x, cHi.x), uniform(rng, cLo.y, cHi.y), uniform(rng, cLo.z, cHi.z)});
+        spreads.push_back(uniform(rng, spreadLo, spreadHi));
+    }
+    for (int i = 0; i < count; ++i) {
+        Vec3 c;
+        if (chance(rng, scattered)) {
+            c = {uniform(rng, g.min.x, g.max.x), uniform(rng, g.min.y, g.max.y), uniform(rng, g.min.z, g.max.z)};
+        } else {
+            const std::size_t k = std::size_t(rng() % centres.size());
+            for (int a = 0; a < 3; ++a)
+                c[a] = centres[k][a] + (uniform01(rng) + uniform01(rng) + uniform01(rng) - 1.5) * spreads[k];
+        }
+        Shape<3> s;
+        if (chance(rng, 0.6)) {
+            const double r = logUniform(rng, 0.3, 0.5 * maxSize);
+            for (int a = 0; a < 3; ++a)
+                c[a] = std::clamp(c[a], g.min[a] + r, g.max[a] - r);
+            s = Ball<3>{c, r};
+        } else {
+            Vec3 half{logUniform(rng, 0.25, 0.5 * maxSize), logUniform(rng, 0.25, 0.5 * maxSize),
+                      logUniform(rng, 0.25, 0.5 * maxSize)};
+            for (int a = 0; a < 3; ++a)
+                c[a] = std::clamp(c[a], g.min[a] + half[a], g.max[a] - half[a]);
+            s = Box<3>{c - half, c + half};
+        }
+        if (chance(rng, movingShare)) addMoving<3>(w, s, unitVector3(rng) * uniform(rng, 0.1, 0.5));
+        else addStatic<3>(w, s);
+    }
+}
+
+/// 2. 5,000 spheres and boxes in 8 clusters, 30 % moving; the camera circles the world looking inward.
+World<3> clustersScene(int count) {
+    World<3> w;
+    w.name = "clusters";
+    w.grid = GridGeometry3(Vec3(0.0), 1.0, {100, 60, 100});
+    std::mt19937_64 rng(0xc105);
+    addClusters(w, rng, count, 8, 0.3, 0.05, {25, 15, 25}, {75, 45, 75}, 4, 9, 4);
+    w.camera = [](int f) {
+        const double t = 0.3 + f / 45.0; // 1 unit per frame on a circle of radius 45
+        const Vec3 p{50 + 45 * std::cos(t), 30 + 8 * std::sin(2 * t), 50 + 45 * std::sin(t)};
+        return camera3(p, Vec3{50, 25, 50} - p);
+    };
+    w.description = std::to_string(count) + " spheres and boxes in 8 clusters, 30 % moving, camera circling inward";
+    return w;
+}
+
+/// A smooth flying path (a Lissajous curve) and its tangent.
+struct Flight {
+    Vec3 centre, radius;
+    double omega;
+    Vec3 at(double f) const {
+        const double t = omega * f;
+        return {centre.x + radius.x * std::sin(t), centre.y + radius.y * std::sin(1.7 * t + 0.5),
+                centre.z + radius.z * std::sin(2 * t + 0.3)};
+    }
+    Camera3 camera(int f, double pitch) const {
+        Vec3 d = at(f + 2.0) - at(f);
+        d.y += pitch * std::sqrt(d.x * d.x + d.z * d.z);
+        return camera3(at(f), d);
+    }
+};
+
+/// 3. A game level: ground, 50 box buildings (footprints 6-16, heights 10-50) clear of the camera's path,
+/// 2,000 spheres moving at 0.05-0.5 among them, a flying camera at 5-20 units altitude.
+World<3> gameScene(int buildings, int spheres) {
+    World<3> w;
+    w.name = "game";
+    w.grid = GridGeometry3(Vec3(0.0), 1.0, {128, 64, 128});
+    const Flight path{{64, 12.5, 64}, {46, 7.5, 46}, 0.011};
+    addStatic<3>(w, Box<3>{{0, 0, 0}, {128, 1, 128}});
+    w.obstacles.push_back(Box<3>{{0, 0, 0}, {128, 1, 128}});
+    std::mt19937_64 rng(0x9a3e);
+    for (int b = 0, tries = 0; b < buildings && tries < 100000; ++tries) {
+        const int sx = uniformInt(rng, 6, 16), sz = uniformInt(rng, 6, 16), h = uniformInt(rng, 10, 50);
+        const int x0 = uniformInt(rng, 0, 128 - sx), z0 = uniformInt(rng, 0, 128 - sz);
+        const Box<3> box{{double(x0), 1, double(z0)}, {double(x0 + sx), double(1 + h), double(z0 + sz)}};
+        const Box<3> grown{box.min - Vec3(2.0), box.max + Vec3(2.0)};
+        bool clear = true;
+        for (const Box<3>& o : w.obstacles)
+            if (o.min.y > 0 && overlapsOpen(grown, o)) clear = false; // 2 units between buildings
+        for (int s = 0; s < 3000 && clear; ++s) {                     // and 3 units from the camera's path (one period)
+            const Vec3 p = path.at(s * (2 * kPi / path.omega) / 3000);
+            if (p.x > box.min.x - 3 && p.x < box.max.x + 3 && p.z > box.min.z - 3 && p.z < box.max.z + 3 &&
+                p.y < box.max.y + 3)
+                clear = false;
+        }
+        if (!clear) continue;
+        addStatic<3>(w, box);
+        w.obstacles.push_back(box);
+        ++b;
+    }
+    for (int i = 0; i < spheres; ++i) {
+        const double r = logUniform(rng, 0.3, 1.5);
+        placeSphere(w, rng, r, Vec3{r, 1 + r, r}, Vec3{128 - r, 64 - r, 128 - r}, uniform(rng, 0.05, 0.5));
+    }
+    w.camera = [path](int f) { return path.camera(f, -0.15); };
+    w.description = std::to_string(w.obstacles.size() - 1) + " box buildings on a ground, " +
+                    std::to_string(w.objects.size() - w.obstacles.size()) + " moving spheres, flying camera";
+    return w;
+}
+
+/// 4. 512 x 128 x 512, mostly empty: four clusters of `perCluster` objects (half of them moving); the
+/// camera flies over the whole world.
+World<3> largeScene(int perCluster) {
+    World<3> w;
+    w.name = "large";
+    w.grid = GridGeometry3(Vec3(0.0), 1.0, {512, 128, 512});
+    std::mt19937_64 rng(0x1a29e);
+    addClusters(w, rng, 4 * perCluster, 4, 0.5, 0.0, {100, 30, 100}, {412, 98, 412}, 12, 25, 6);
+    const Flight path{{256, 64, 256}, {210, 40, 210}, 0.0024};
+    w.camera = [path](int f) { return path.camera(f, -0.1); };
+    w.description = "four clusters of " + std::to_string(perCluster) + " objects (half moving), flying camera";
+    return w;
+}
+
+/// 5. An empty side^3 grid (512^3; 256^3 with --quick) holding one tiny static sphere; the camera sits in
+/// a corner looking across.
+World<3> emptyScene(int side) {
+    World<3> w;
+    w.name = "empty";
+    w.grid = GridGeometry3(Vec3(0.0), 1.0, {side, side, side});
+    addStatic<3>(w, Ball<3>{Vec3(0.5 * side + 0.5), 0.25});
+    w.camera = [](int f) {
+        const double a = 0.02 * f;
+        return camera3({1.5, 1.5, 1.5}, {std::cos(kPi / 4 + a), 0.8, std::sin(kPi / 4 + a)});
+    };
+    w.maxFrames = 5;
+    w.description = "empty but for one tiny static sphere, camera in a corner looking across (at most 5 frames)";
+    return w;
+}
+
+/// A closed walk along street centre lines: the square with corners (a, a) and (b, b), parameterised by
+/// arc length s; the view looks 4 units ahead along the walk.
+struct StreetWalk {
+    double a, b;
+    Vec2 at(double s) const {
+        const double side = b - a;
+        s = std::fmod(s, 4 * side);
+        if (s < 0) s += 4 * side;
+        if (s < side) return {a + s, a};
+        if (s < 2 * side) return {b, a + (s - side)};
+        if (s < 3 * side) return {b - (s - 2 * side), b};
+        return {a, b - (s - 3 * side)};
+    }
+};
+
+/// 6. A 96 x 24 x 96 box city: 8 x 8 blocks of 9 x 9 (streets 3 wide), each block four abutting buildings
+/// 6-20 high on a ground slab; the camera walks the streets at eye height 1.5; small spheres move in the
+/// streets (below an invisible ceiling at y = 5, so never over a roof).
+World<3> city3dScene(int spheres) {
+    World<3> w;
+    w.name = "city3d";
+    w.grid = GridGeometry3(Vec3(0.0), 1.0, {96, 24, 96});
+    addStatic<3>(w, Box<3>{{0, 0, 0}, {96, 1, 96}});
+    w.obstacles.push_back(Box<3>{{0, 0, 0}, {96, 1, 96}});
+    w.obstacles.push_back(Box<3>{{0, 5, 0}, {96, 24, 96}});
+    std::mt19937_64 rng(0xc17e);
+    for (int bx = 0; bx < 8; ++bx)
+        for (int bz = 0; bz < 8; ++bz)
+            for (int q = 0; q < 4; ++q) {
+                const double x0 = 12 * bx + 3 + (q & 1 ? 4.5 : 0), z0 = 12 * bz + 3 + (q & 2 ? 4.5 : 0);
+                const Box<3> box{{x0, 1, z0}, {x0 + 4.5, 1.0 + uniformInt(rng, 6, 20), z0 + 4.5}};
+                addStatic<3>(w, box);
+                w.obstacles.push_back(box);
+            }
+    for (int i = 0; i < spheres; ++i) {
+        const double r = logUniform(rng, 0.2, 0.6);
+        placeSphere(w, rng, r, Vec3{r, 1 + r, r}, Vec3{96 - r, 5 - r, 96 - r}, uniform(rng, 0.05, 0.3));
+    }
+    const StreetWalk walk{13.5, 73.5};
+    w.camera = [walk](int f) {
+        const double s = 30 + 0.75 * f;
+        const Vec2 p = walk.at(s), q = walk.at(s + 4);
+        const double wobble = 0.15 * std::sin(f / 7.0);
+        const Vec2 d = q - p;
+        return camera3({p.x, 1.5, p.y},
+                       {d.x - wobble * d.y, -0.05 * std::sqrt(lengthSquared<2>(d)), d.y + wobble * d.x});
+    };
+    w.description = "box city, 256 buildings in 64 blocks, " + std::to_string(w.objects.size() - 257) +
+                    " small moving spheres in the streets, camera walking at eye height";
+    return w;
+}
+
+/// 7. The paper's scene (reference::movingSpheres3D, as rgvc_bench3d): 5,000 spheres of radius 0.3-3 in
+/// 8 clusters + 20 % scattered, all moving up to 0.5 per frame, camera on its Lissajous walk at 480 frames
+/// per loop (rgvc_bench3d runs the loop in its --frames, 80 by default: 6x faster).
+World<3> paperScene(int count) {
+    World<3> w;
+    w.name = "paper";
+    auto b = std::make_shared<ref::MovingSpheres3D>(ref::movingSpheres3D(2004, count));
+    w.grid = b->grid;
+    w.objects = b->objects;
+    w.velocity.assign(w.objects.size(), Vec3(0.0)); // unused: the paper's own motion below
+    w.step = [b](World<3>& self) {
+        ref::stepMovingSpheres(*b);
+        for (std::size_t i = 0; i < self.objects.size(); ++i)
+            self.objects[i].shape = b->objects[i].shape;
+    };
+    w.camera = [b](int f) { return ref::movingSpheresCamera(*b, f, 480); };
+    w.description = std::to_string(count) + " moving spheres (reference::movingSpheres3D, seed 2004), Lissajous walk";
+    return w;
+}
+
+/// 8. A 128 x 128 box city in 2D: 8 x 8 blocks of 12 x 12 (streets 4 wide), each four abutting buildings;
+/// small circles move in the streets; the camera walks the streets, fov 90.
+World<2> city2dScene(int circles) {
+    World<2> w;
+    w.name = "city2d";
+    w.grid = GridGeometry2(Vec2(0.0), 1.0, {128, 128});
+    for (int bx = 0; bx < 8; ++bx)
+        for (int bz = 0; bz < 8; ++bz) {
+            for (int q = 0; q < 4; ++q) {
+                const double x0 = 16 * bx + 4 + (q & 1 ? 6 : 0), z0 = 16 * bz + 4 + (q & 2 ? 6 : 0);
+                addStatic<2>(w, Box<2>{{x0, z0}, {x0 + 6, z0 + 6}});
+            }
+            w.obstacles.push_back(Box<2>{{16.0 * bx + 4, 16.0 * bz + 4}, {16.0 * bx + 16, 16.0 * bz + 16}});
+        }
+    std::mt19937_64 rng(0xc172d);
+    for (int i = 0; i < circles; ++i)
+        for (int attempt = 0; attempt < 1000; ++attempt) {
+            const double r = logUniform(rng, 0.3, 0.8);
+            const Ball<2> c{{uniform(rng, r, 128 - r), uniform(rng, r, 128 - r)}, r};
+            if (!freePlace(w, boundsOf<2>(c))) continue;
+            addMoving<2>(w, c, unitVector2(rng) * uniform(rng, 0.05, 0.3));
+            break;
+        }
+    const StreetWalk walk{18, 98};
+    w.camera = [walk](int f) {
+        const double s = 40 + 0.75 * f;
+        const Vec2 p = walk.at(s), q = walk.at(s + 4);
+        const double wobble = 0.2 * std::sin(f / 7.0);
+        const Vec2 d = q - p;
+        Camera2 c;
+        c.position = p;
+        c.direction = {d.x - wobble * d.y, d.y + wobble * d.x};
+        c.fovDeg = 90;
+        return c;
+    };
+    w.description = "2D box city, 256 buildings in 64 blocks, " + std::to_string(w.objects.size() - 256) +
+                    " moving circles in the streets, camera walking, fov 90";
+    return w;
+}
+
+/// 9. A random dense 2D scene in the manner of rgvc_bench2d's Figure 1 setting (written anew here: that
+/// generator is private to Bench2D.cpp): circles (55 %, moving at 0.1-0.5), boxes (30 %) and convex
+/// polygons (static), sizes 1.5-7, uniform over 256 x 256; the camera on a Lissajous walk, fov 90.
+World<2> random2dScene(int count) {
+    World<2> w;
+    w.name = "random2d";
+    w.grid = GridGeometry2(Vec2(0.0), 1.0, {256, 256});
+    std::mt19937_64 rng(0x2a2d);
+    for (int i = 0; i < count; ++i) {
+        const double size = uniform(rng, 1.5, 7.0), kind = uniform01(rng);
+        Vec2 c{uniform(rng, 0, 256), uniform(rng, 0, 256)};
+        if (kind < 0.55) {
+            const double r = 0.6 * size;
+            c = glm::clamp(c, Vec2(r), Vec2(256 - r));
+            addMoving<2>(w, Ball<2>{c, r}, unitVector2(rng) * uniform(rng, 0.1, 0.5));
+        } else if (kind < 0.85) {
+            const Vec2 half{size * uniform(rng, 0.3, 1.3), size * uniform(rng, 0.3, 1.3)};
+            addStatic<2>(w, Box<2>{c - half, c + half});
+        } else {
+            ConvexPolygon p;
+            const int n = uniformInt(rng, 3, 7);
+            const double a0 = uniform(rng, 0, 2 * kPi);
+            for (int k = 0; k < n; ++k)
+                p.points.push_back(c + Vec2{std::cos(a0 + 2 * kPi * k / n), std::sin(a0 + 2 * kPi * k / n)} * size);
+            addStatic<2>(w, p);
+        }
+    }
+    w.camera = [](int f) {
+        const double t = 2 * kPi * f / 600.0;
+        Camera2 c;
+        c.position = {128 + 100 * std::sin(t), 128 + 100 * std::sin(2 * t + 0.3)};
+        c.direction = {std::cos(t), 2 * std::cos(2 * t + 0.3)};
+        c.fovDeg = 90;
+        return c;
+    };
+    w.description = std::to_string(count) + " random circles (moving), boxes and polygons, Lissajous walk, fov 90";
+    return w;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Running
+
+struct Config {
+    int frames = 60, warmup = 5, refEvery = 0; // refEvery 0: chosen from the first check's cost
+    bool quick = false;
+};
+
+struct Row {
+    std::string scene, variant;
+    bool is3D = true;
+    double medianMs = 0, p90Ms = 0, voxels = 0, nodes = 0, empty = 0, hidden = 0, bricks = 0, pvs = 0;
+    double ratio = -1; // -1: no frame counted
+    std::uint64_t misses = 0;
+};
+
+std::vector<Row> g_rows;
+std::vector<std::string> g_notes;
+std::uint64_t g_totalMisses = 0;
+const bool g_progress = isatty(fileno(stderr)) != 0;
+
+bool cameraInside(const Shape<2>& s, const Vec2& p) {
+    return std::visit(
+        [&](const auto& x) {
+            using T = std::decay_t<decltype(x)>;
+            if constexpr (std::is_same_v<T, Ball<2>>) return lengthSquared<2>(p - x.center) < x.radius * x.radius;
+            else if constexpr (std::is_same_v<T, Box<2>>)
+                return p.x > x.min.x && p.x < x.max.x && p.y > x.min.y && p.y < x.max.y;
+            else {
+                bool pos = true, neg = true;
+                for (std::size_t i = 0; i < x.points.size(); ++i) {
+                    const Vec2 a = x.points[i], b = x.points[(i + 1) % x.points.size()];
+                    const double c = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+                    pos = pos && c > 0;
+                    neg = neg && c < 0;
+                }
+                return pos || neg;
+            }
+        },
+        s);
+}
+
+/// The reference's answer for all objects, computed on those touching the view region (see the top).
+struct Reference {
+    std::vector<bool> visible;
+    std::size_t count = 0;
+    bool cameraInsideObject = false;
+};
+
+Reference referenceOf(const std::vector<ObjectDesc<3>>& objects, const Camera3& cam) {
+    const std::vector<Shape<3>> shapes = ref::shapesOf(objects);
+    const std::vector<bool> inView = ref::inViewRegion3D(shapes, cam);
+    std::vector<Shape<3>> sub;
+    std::vector<std::size_t> index;
+    for (std::size_t i = 0; i < shapes.size(); ++i)
+        if (inView[i]) {
+            sub.push_back(shapes[i]);
+            index.push_back(i);
+        }
+    ref::Visibility3DOptions opt;
+    opt.gridDivisions = 128;
+    opt.targetDivisions = 8;
+    opt.eps = ref::sceneEpsilon3D(shapes, cam);
+    ref::Visibility3DStats st;
+    const std::vector<bool> vis = ref::visible3D(sub, cam, opt, &st);
+    Reference r;
+    r.visible.assign(shapes.size(), false);
+    for (std::size_t k = 0; k < sub.size(); ++k) {
+        r.visible[index[k]] = vis[k];
+        r.count += vis[k];
+        r.cameraInsideObject = r.cameraInsideObject || st.seen[k] == ref::Seen3D::ContainsCamera;
+    }
+    return r;
+}
+
+Reference referenceOf(const std::vector<ObjectDesc<2>>& objects, const Camera2& cam) {
+    const std::vector<Shape<2>> shapes = ref::shapesOf(objects);
+    Reference r;
+    r.visible.assign(shapes.size(), false);
+    ref::ExactOptions opt;
+    opt.eps = ref::sceneEpsilon(shapes, cam);
+    // The wedge is convex for fov <= 180 only; wider views get every object.
+    const std::vector<bool> inView =
+        cam.fovDeg <= 180 ? ref::inViewRegion2D(shapes, cam) : std::vector<bool>(shapes.size(), true);
+    std::vector<Shape<2>> sub;
+    std::vector<std::size_t> index;
+    for (std::size_t i = 0; i < shapes.size(); ++i)
+        if (inView[i]) {
+            sub.push_back(shapes[i]);
+            index.push_back(i);
+        }
+    const std::vector<bool> vis = ref::exactVisible2D(sub, cam, opt);
+    for (std::size_t k = 0; k < sub.size(); ++k) {
+        r.visible[index[k]] = vis[k];
+        r.count += vis[k];
+    }
+    for (const Shape<2>& s : shapes)
+        r.cameraInsideObject = r.cameraInsideObject || cameraInside(s, cam.position);
+    return r;
+}
+
+template <int D> std::string gridText(const GridGeometry<D>& g) {
+    std::string s = std::to_string(g.resolution()[0]);
+    for (int k = 1; k < D; ++k)
+        s += "x" + std::to_string(g.resolution()[k]);
+    return s;
+}
+
+template <int D> struct Variant {
+    const char* name;
+    CullerOptions options;
+};
+
+template <int D> std::vector<Variant<D>> variantsFor() {
+    if constexpr (D == 3) return {{"new", {}}, {"old", {.hierarchical = false}}, {"vfc", {.occlusion = false}}};
+    else return {{"default", {}}, {"vfc", {.occlusion = false}}};
+}
+
+template <int D> void runScene(World<D>& w, const Config& cfg) {
+    const std::vector<Variant<D>> variants = variantsFor<D>();
+    const std::size_t nv = variants.size();
+    const int frames = w.maxFrames > 0 ? std::min(cfg.frames, w.maxFrames) : cfg.frames;
+    std::printf("- %s: %dD grid %s, %zu objects: %s; %d frames after %d warm-up\n", w.name.c_str(), D,
+                gridText(w.grid).c_str(), w.objects.size(), w.description.c_str(), frames, cfg.warmup);
+    std::fflush(stdout);
+
+    const auto tBuild = std::chrono::steady_clock::now();
+    std::vector<Culler<D>> cullers;
+    for (const Variant<D>& v : variants) {
+        cullers.emplace_back(w.grid, v.options);
+        for (const ObjectDesc<D>& o : w.objects)
+            cullers.back().addObject(o);
+    }
+    const double buildMs = msSince(tBuild);
+    const PlacementQuery<D> placementOf = [&w](ObjectId id) { return w.objects[std::size_t(id)].shape; };
+
+    std::vector<std::vector<double>> ms(nv);
+    std::vector<double> voxels(nv), nodes(nv), empty(nv), hidden(nv), bricks(nv), pvs(nv), ratio(nv);
+    std::vector<std::uint64_t> misses(nv);
+    int refEvery = cfg.refEvery > 0 ? cfg.refEvery : 1, checked = 0, counted = 0;
+    double refMs = 0, visibleSum = 0, firstRefMs = 0;
+    for (int f = 0; f < cfg.warmup + frames; ++f) {
+        if (f > 0) stepWorld(w);
+        const Camera<D> cam = w.camera(f);
+        const int m = f - cfg.warmup; // measured frame index, < 0 in the warm-up
+        Reference truth;
+        const bool check = m >= 0 && m % refEvery == 0;
+        if (check) {
+            const auto t0 = std::chrono::steady_clock::now();
+            truth = referenceOf(w.objects, cam);
+            const double t = msSince(t0);
+            refMs += t;
+            if (checked++ == 0) {
+                firstRefMs = t;
+                if (cfg.refEvery <= 0) // keep the reference near the budget for the whole scene
+                    refEvery = std::clamp(int(std::ceil(t * frames / (cfg.quick ? 1000.0 : kReferenceBudgetMs))), 1,
+                                          std::max(frames, 1));
+            }
+            visibleSum += double(truth.count);
+        }
+        const bool count = check && truth.count > 0 && !truth.cameraInsideObject;
+        counted += count;
+        for (std::size_t j = 0; j < nv; ++j) {
+            const std::size_t k = (j + std::size_t(f)) % nv; // rotate the order
+            const CullResult& r = cullers[k].cull(cam, placementOf);
+            if (m < 0) continue;
+            const CullStats& s = r.stats;
+            ms[k].push_back(s.cullMs);
+            voxels[k] += double(s.voxelsVisited);
+            nodes[k] += double(s.nodesVisited);
+            empty[k] += double(s.nodesEmpty);
+            hidden[k] += double(s.nodesHidden);
+            bricks[k] += double(s.bricksVisited);
+            pvs[k] += double(r.pvs.size());
+            if (!check) continue;
+            if (count) ratio[k] += double(r.pvs.size()) / double(truth.count);
+            for (std::size_t i = 0; i < w.objects.size(); ++i)
+                if (truth.visible[i] && !std::binary_search(r.pvs.begin(), r.pvs.end(), w.objects[i].id)) {
+                    if (misses[k]++ < 3) {
+                        const std::string path = "/tmp/rgvc-bench-classes-miss-" + w.name + "-" + variants[k].name +
+                                                 "-frame" + std::to_string(m) + ".json";
+                        std::ofstream(path) << ref::toJson(w.grid, w.objects, cam);
+                        std::fprintf(stderr, "%sMISS: scene %s, variant %s, frame %d, object %llu (scene: %s)\n",
+                                     g_progress ? "\n" : "", w.name.c_str(), variants[k].name, m,
+                                     (unsigned long long)w.objects[i].id, path.c_str());
+                    }
+                }
+        }
+        if (g_progress)
+            std::fprintf(stderr, "\r  %-10s frame %d/%d%s   ", w.name.c_str(), f + 1, cfg.warmup + frames,
+                         check ? " (reference)" : "");
+    }
+    if (g_progress) std::fprintf(stderr, "\r%70s\r", "");
+
+    const double n = std::max(1, frames);
+    for (std::size_t k = 0; k < nv; ++k) {
+        Row row;
+        row.scene = w.name;
+        row.variant = variants[k].name;
+        row.is3D = D == 3;
+        row.medianMs = percentile(ms[k], 0.5);
+        row.p90Ms = percentile(ms[k], 0.9);
+        row.voxels = voxels[k] / n;
+        row.nodes = nodes[k] / n;
+        row.empty = empty[k] / n;
+        row.hidden = hidden[k] / n;
+        row.bricks = bricks[k] / n;
+        row.pvs = pvs[k] / n;
+        row.ratio = counted > 0 ? ratio[k] / counted : -1;
+        row.misses = misses[k];
+        g_totalMisses += misses[k];
+        g_rows.push_back(row);
+    }
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "%s: reference checked %d of %d frames (every %d%s), %.0f ms per check (first %.0f ms); "
+                  "mean |visible| %.1f; ratio over %d frames (%d with the camera inside an object or nothing "
+                  "visible left out); setup (%zu cullers, addObject) %.0f ms, RSS %.0f MiB",
+                  w.name.c_str(), checked, frames, refEvery, cfg.refEvery > 0 ? ", --ref-every" : ", auto",
+                  refMs / std::max(1, checked), firstRefMs, visibleSum / std::max(1, checked), counted,
+                  checked - counted, nv, buildMs, double(rssKiB()) / 1024.0);
+    g_notes.emplace_back(buf);
+}
+
+std::string fmt(const char* f, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+
+void printTable() {
+    std::printf("\n| scene | variant | median ms | p90 ms | voxels | nodes | empty | hidden | bricks | \\|PVS\\| | "
+                "\\|PVS\\|/\\|visible\\| | misses |\n");
+    std::printf("|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
+    for (const Row& r : g_rows) {
+        auto three = [&](double v) { return r.is3D ? fmt("%.0f", v) : std::string("-"); };
+        std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s%llu%s |\n", r.scene.c_str(),
+                    r.variant.c_str(), fmt("%.3f", r.medianMs).c_str(), fmt("%.3f", r.p90Ms).c_str(),
+                    fmt("%.0f", r.voxels).c_str(), three(r.nodes).c_str(), three(r.empty).c_str(),
+                    three(r.hidden).c_str(), three(r.bricks).c_str(), fmt("%.1f", r.pvs).c_str(),
+                    r.ratio < 0 ? "-" : fmt("%.3f", r.ratio).c_str(), r.misses ? "**" : "",
+                    (unsigned long long)r.misses, r.misses ? "**" : "");
+    }
+}
+
+[[noreturn]] void usageError(const std::string& what) {
+    std::fprintf(stderr,
+                 "rgvc_bench_classes: %s (usage: rgvc_bench_classes [--scene NAME|all] [--frames N] "
+                 "[--warmup W] [--ref-every K] [--quick])\n",
+                 what.c_str());
+    std::exit(2);
+}
+
+int parseInt(const std::string& flag, const char* text, int minimum) {
+    char* end = nullptr;
+    const long v = std::strtol(text, &end, 10);
+    if (end == text || *end != '\0' || v < minimum || v > 1000000)
+        usageError(flag + " needs an integer >= " + std::to_string(minimum) + ", got '" + text + "'");
+    return int(v);
+}
+
+const char* const kScenes[] = {"room-1k", "room-10k", "room-100k", "clusters", "game",    "large",
+                               "empty",   "city3d",   "paper",     "city2d",   "random2d"};
+
+} // namespace
+
+int main(int argc, char** argv) {
+    Config cfg;
+    std::string scene = "all";
+    bool framesGiven = false, warmupGiven = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&]() -> const char* {
+            if (i + 1 >= argc) usageError(a + " needs a value");
+            return argv[++i];
+        };
+        if (a == "--scene") scene = value();
+        else if (a == "--frames") cfg.frames = parseInt(a, value(), 1), framesGiven = true;
+        else if (a == "--warmup") cfg.warmup = parseInt(a, value(), 0), warmupGiven = true;
+        else if (a == "--ref-every") cfg.refEvery = parseInt(a, value(), 1);
+        else if (a == "--quick") cfg.quick = true;
+        else if (a == "--help" || a == "-h") {
+            std::printf("usage: rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] "
+                        "[--quick]\nscenes:");
+            for (const char* s : kScenes)
+                std::printf(" %s", s);
+            std::printf("\n");
+            return 0;
+        } else usageError("unknown flag '" + a + "'");
+    }
+    if (scene != "all" && std::find_if(std::begin(kScenes), std::end(kScenes),
+                                       [&](const char* s) { return scene == s; }) == std::end(kScenes))
+        usageError("unknown scene '" + scene + "'");
+    if (cfg.quick) {
+        if (!framesGiven) cfg.frames = 3;
+        if (!warmupGiven) cfg.warmup = 1;
+        if (cfg.refEvery == 0) cfg.refEvery = 1;
+    }
+    const bool q = cfg.quick;
+    auto wanted = [&](const char* s) {
+        if (scene == s) return true;
+        return scene == "all" && !(q && (std::string(s) == "room-10k" || std::string(s) == "room-100k"));
+    };
+
+    std::printf("rgvc_bench_classes on %s, one thread; %d frames per scene (empty: at most 5) after %d warm-up%s; "
+                "reference %s\n",
+                machine().c_str(), cfg.frames, cfg.warmup, q ? "; --quick (small object counts)" : "",
+                cfg.refEvery > 0 ? ("every " + std::to_string(cfg.refEvery) + " frames").c_str()
+                                 : "on a subset of frames: ~3 s per scene, every K-th (K in the notes)");
+    std::printf("variants (interleaved frame by frame on the same scene): 3D new = default options "
+                "(hierarchical), old = hierarchical off, vfc = occlusion off (its |PVS| is |VFC|); 2D default, vfc\n");
+    std::printf("times: CullStats::cullMs (wall, placement queries included); voxels/nodes/empty/hidden/bricks/|PVS|: "
+                "means per frame\n\nscenes:\n");
+    try {
+        if (wanted("room-1k")) {
+            auto w = roomScene("room-1k", 1000);
+            runScene(w, cfg);
+        }
+        if (wanted("room-10k")) {
+            auto w = roomScene("room-10k", 10000);
+            runScene(w, cfg);
+        }
+        if (wanted("room-100k")) {
+            auto w = roomScene("room-100k", 100000);
+            runScene(w, cfg);
+        }
+        if (wanted("clusters")) {
+            auto w = clustersScene(q ? 500 : 5000);
+            runScene(w, cfg);
+        }
+        if (wanted("game")) {
+            auto w = gameScene(q ? 20 : 50, q ? 200 : 2000);
+            runScene(w, cfg);
+        }
+        if (wanted("large")) {
+            auto w = largeScene(q ? 50 : 500);
+            runScene(w, cfg);
+        }
+        if (wanted("empty")) {
+            auto w = emptyScene(q ? 256 : 512); // 512^3: 13 s and 5 GiB to set up three cullers
+            if (q) w.maxFrames = 2;
+            runScene(w, cfg);
+        }
+        if (wanted("city3d")) {
+            auto w = city3dScene(q ? 30 : 300);
+            runScene(w, cfg);
+        }
+        if (wanted("paper")) {
+            auto w = paperScene(q ? 500 : 5000);
+            runScene(w, cfg);
+        }
+        if (wanted("city2d")) {
+            auto w = city2dScene(q ? 30 : 200);
+            runScene(w, cfg);
+        }
+        if (wanted("random2d")) {
+            auto w = random2dScene(q ? 100 : 300);
+            runScene(w, cfg);
+        }
+    } catch (const std::exception& e) {
+        if (g_progress) std::fprintf(stderr, "\n");
+        std::fprintf(stderr, "rgvc_bench_classes: %s\n", e.what());
+        return 1;
+    }
+    printTable();
+    std::printf("\nreference notes:\n");
+    for (const std::string& n : g_notes)
+        std::printf("- %s\n", n.c_str());
+    if (g_totalMisses > 0) {
+        std::printf("\n*** %llu MISSES: some PVS lacks a visible object (must be 0) ***\n",
+                    (unsigned long long)g_totalMisses);
+        std::fprintf(stderr, "rgvc_bench_classes: *** %llu MISSES (must be 0); scenes written to /tmp ***\n",
+                     (unsigned long long)g_totalMisses);
+        return 1;
+    }
+    std::printf("\nmisses: 0\n");
+    return 0;
+}
