@@ -16,8 +16,7 @@
 #include "SlotSet.hpp"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
+#include <bit>
 #include <chrono>
 #include <exception>
 #include <utility>
@@ -567,10 +566,9 @@ template <int D> struct Culler<D>::Impl {
         if constexpr (D == 3) {
             if (imageActive && traversalImage.hidden(r.at.local, slack)) {
                 ++result.stats.imageHidden;
-                if (std::getenv("RGVC_DBG")) std::fprintf(stderr, "hidden %d\n", int(r.id));
                 return;
             }
-            if (std::getenv("RGVC_DBG")) std::fprintf(stderr, "visible %d\n", int(r.id));
+
             addToPvs(slot);
             if (imageActive) traversalImage.draw(r.at.local, slack);
         } else {
@@ -601,15 +599,51 @@ template <int D> struct Culler<D>::Impl {
         const BrickTraversalStats3D ts = brickTraversal.run(
             grid, storage, view, imageActive ? &traversalImage : nullptr, frame,
             [&](const IVec3& brick) { return tbvs.mayHoldBrick(brick); },
-            [&](VoxelKey key, const IVec3& v) {
-                if (tbvs.liveRegions() != 0) {
-                    revealScratch.clear();
-                    tbvs.collectAt(v, revealScratch);
-                    if (!revealScratch.empty() &&
-                        !(imageActive && traversalImage.hidden(Box<3>{Vec3(v), Vec3(v) + 1.0}, view.slack())))
-                        for (ObjectSlot slot : revealScratch) revealDuringTraversal(slot, st);
+            [&](VoxelKey key, const IVec3&) { storage.forEachId(key, [&](ObjectSlot slot) { classify(slot, view); }); },
+            [&](const IVec3& brick, const std::uint64_t visited[8]) {
+                revealScratch.clear();
+                // The visited voxels that hold some TBV, then those of them the image does not hide (a row's
+                // run of them tested as one box first: hidden as a whole, none of them can reveal anything).
+                std::uint64_t held[8];
+                const bool lists = tbvs.hasBrickLists();
+                if (lists && !tbvs.brickBits(brick, held)) return;
+                bool any = false;
+                for (int z = 0; z < 8; ++z) any = (held[z] = lists ? held[z] & visited[z] : visited[z]) != 0 || any;
+                if (!any) return;
+                if (imageActive) {
+                    const IVec3 o = brick * 8;
+                    for (int z = 0; z < 8; ++z)
+                        for (int y = 0; y < 8; ++y) {
+                            const std::uint32_t row = std::uint32_t(held[z] >> (8 * y)) & 0xFFu;
+                            if (row == 0) continue;
+                            const int first = std::countr_zero(row), last = 31 - std::countl_zero(row);
+                            const Vec3 at(o + IVec3{0, y, z});
+                            const double s = view.slack();
+                            bool hide = traversalImage.hidden(Box<3>{at + Vec3(first, 0, 0), at + Vec3(last + 1, 1, 1)}, s);
+                            std::uint32_t keep = hide ? 0u : row;
+                            if (!hide && first != last)
+                                for (std::uint32_t bits = row; bits != 0; bits &= bits - 1) {
+                                    const int x = std::countr_zero(bits);
+                                    if (traversalImage.hidden(Box<3>{at + Vec3(x, 0, 0), at + Vec3(x + 1, 1, 1)}, s))
+                                        keep &= ~(1u << x);
+                                }
+                            held[z] = (held[z] & ~(std::uint64_t(0xFF) << (8 * y))) | (std::uint64_t(keep) << (8 * y));
+                        }
                 }
-                storage.forEachId(key, [&](ObjectSlot slot) { classify(slot, view); });
+                if (lists) {
+                    tbvs.collectInBrick(brick, held, revealScratch);
+                } else { // a Shell TBV exists: its voxel lists answer voxel by voxel
+                    for (int z = 0; z < 8; ++z)
+                        for (std::uint64_t bits = held[z]; bits != 0; bits &= bits - 1) {
+                            const int b = std::countr_zero(bits);
+                            tbvs.collectAt(brick * 8 + IVec3{b & 7, b >> 3, z}, revealScratch);
+                        }
+                    std::sort(revealScratch.begin(), revealScratch.end());
+                    revealScratch.erase(std::unique(revealScratch.begin(), revealScratch.end()), revealScratch.end());
+                }
+                // Revealing erases from the lists: collected first, revealed after.
+                for (ObjectSlot slot : revealScratch)
+                    if (records[slot].state == State::Hidden) revealDuringTraversal(slot, st);
             });
         for (std::size_t i = 0; i < outside.size(); ++i) classify(outside[i], view);
         st.layers = 0;

@@ -43,6 +43,7 @@
 #include "rgvc/grid/VoxelStorage.hpp"
 
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -67,12 +68,16 @@ public:
     ///                   The caller draws into it from onVoxel; nodes are tested against it as it grows.
     /// @param mayHoldTbv bool(IVec3 brick): whether a TBV may hold a voxel of that brick (false: a guarantee).
     /// @param onVoxel    void(VoxelKey, IVec3 voxel): called for every voxel of a visited brick that touches
-    ///                   the frustum and holds ids, or lies in a brick that may hold a TBV. Its visited mark
-    ///                   is set (stamp). It may add ids to the storage (a revealed object) and draw.
-    template <class MayHoldTbv, class OnVoxel>
+    ///                   the frustum and holds ids. Its visited mark is set (stamp). It may add ids to the
+    ///                   storage (a revealed object) and draw.
+    /// @param onTbvs     void(IVec3 brick, const std::uint64_t visited[8]): for a visited brick that may
+    ///                   hold a TBV, called once after its ids, with the brick's voxels that touch the
+    ///                   frustum (slice words: bit x + 8 y of slice z, brick-local); the caller tests those
+    ///                   that hold a TBV against the image.
+    template <class MayHoldTbv, class OnVoxel, class OnTbvs>
     BrickTraversalStats3D run(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum,
                               OcclusionBuffer3D* image, std::uint32_t stamp, MayHoldTbv&& mayHoldTbv,
-                              OnVoxel&& onVoxel) {
+                              OnVoxel&& onVoxel, OnTbvs&& onTbvs) {
         BrickTraversalStats3D st;
         BrickPyramid<3>& tree = storage.bricks();
         const IVec3 res = grid.resolution();
@@ -101,7 +106,7 @@ public:
                 continue;
             }
             if (n.level == 0) {
-                visitBrick(grid, storage, frustum, image, n.c, lo, hi, stamp, mayHoldTbv(n.c), onVoxel, st);
+                visitBrick(grid, storage, frustum, image, n.c, lo, hi, stamp, mayHoldTbv(n.c), onVoxel, onTbvs, st);
                 continue;
             }
             // Children nearest first: pushed in reverse order, so near ^ 0 pops first.
@@ -126,10 +131,10 @@ private:
         IVec3 c;
     };
 
-    template <class OnVoxel>
+    template <class OnVoxel, class OnTbvs>
     void visitBrick(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D* image,
                     const IVec3& brick, const IVec3& lo, const IVec3& hi, std::uint32_t stamp, bool tbvHere,
-                    OnVoxel& onVoxel, BrickTraversalStats3D& st) {
+                    OnVoxel& onVoxel, OnTbvs& onTbvs, BrickTraversalStats3D& st) {
         ++st.bricksVisited;
         const bool hasFar = !std::isinf(frustum.far());
         bool anyIds = false;
@@ -159,18 +164,23 @@ private:
                     if (((opaque >> (x - lo.x)) & 1) != 0 && !storage.used(VoxelKey(r.key + std::uint32_t(x)), stamp))
                         drawFusedBox(grid, storage, frustum, *image, IVec3{x, y, z}, stamp, st);
             }
-        // Pass 2: visit the spans.
+        // Pass 2: visit the spans; then the brick's TBVs, all at once when the caller can.
+        std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0}; // the visited voxels, as slice words
         for (int i = 0; i < rows; ++i) {
             const RowInfo& r = m_rows[std::size_t(i)];
+            std::uint32_t inView = 0; // bit x - lo.x: visited
             for (std::int32_t x = r.u0; x <= r.u1; ++x) {
                 const IVec3 v{x, r.y, r.z};
                 if (hasFar && !frustum.withinFar(Vec3(v), Vec3(v) + 1.0)) continue;
                 const VoxelKey key(r.key + std::uint32_t(x));
                 storage.setVisited(key, stamp);
                 ++st.voxelsVisited;
-                if (tbvHere || ((r.ids >> (x - lo.x)) & 1) != 0) onVoxel(key, v);
+                inView |= 1u << (x - lo.x);
+                if (((r.ids >> (x - lo.x)) & 1) != 0) onVoxel(key, v);
             }
+            visible[r.z - lo.z] |= std::uint64_t(inView) << (8 * (r.y - lo.y));
         }
+        if (tbvHere) onTbvs(brick, visible);
         // Nothing in it. (onVoxel, which may add ids, ran for no voxel of this brick then.)
         if (!anyIds && !tbvHere) {
             storage.bricks().markEmpty(brick);

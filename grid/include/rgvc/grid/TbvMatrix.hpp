@@ -374,6 +374,38 @@ public:
     bool allocated() const { return !m_heads.empty() || !m_voxels.empty(); }
     std::size_t incidences() const { return m_lists.size(); }
 
+    /// Brick-at-a-time lookups (the brick traversal): the voxels of brick b (brick coordinates) that some
+    /// TBV holds, as 8 slice words (bit x + 8 y of slice z, brick-local), exact (a stale brick is rebuilt
+    /// first). False when no TBV reaches the brick. Boundary and Filled only (hasBrickLists()).
+    bool brickBits(const IVec3& b, std::uint64_t out[8]) {
+        if (m_heads.empty()) return false;
+        const std::size_t brick = brickIndex(b);
+        if (m_heads[brick] == kNone) return false;
+        if (m_stale[brick] != 0) rebuild(brick);
+        const std::uint64_t* w = &m_bits[brick * kSlices];
+        bool any = false;
+        for (std::size_t z = 0; z < kSlices; ++z) any = (out[z] = w[z]) != 0 || any;
+        return any;
+    }
+    /// Appends, each once, the slots whose voxels in brick b meet `voxels` (8 slice words as above).
+    /// Cost: the brick's list, one part (8 words at most) per entry.
+    void collectInBrick(const IVec3& b, const std::uint64_t voxels[8], std::vector<ObjectSlot>& out) const {
+        if (m_heads.empty()) return;
+        const std::size_t brick = brickIndex(b);
+        BrickPart p;
+        m_lists.forEach(m_heads[brick], [&](ObjectSlot s) {
+            if (!brickPart(m_boxes[s], b, p)) return;
+            for (std::int32_t z = p.z0; z <= p.z1; ++z)
+                if ((p.slice(z) & voxels[z]) != 0) {
+                    out.push_back(s);
+                    return;
+                }
+        });
+    }
+    /// Whether TBVs are kept per brick (Boundary, Filled); false while a Shell TBV exists (its voxel lists
+    /// answer only collectAt).
+    bool hasBrickLists() const { return m_voxels.empty(); }
+
     /// Whether some TBV may hold a voxel of brick b (brick coordinates, 8^3 voxels): false is a guarantee.
     /// The Shell discretization keeps no brick lists, so while it is in use every brick may.
     bool mayHoldBrick(const IVec3& b) const {
