@@ -14,7 +14,8 @@
 //      walk: a disc can cut a ring into up to four pieces (its corners lie farther than its sides),
 //      so the wedge-and-disc voxels of a ring need not be contiguous, while the wedge's are.
 //   3. A visited voxel not in H reports its ids (callback) and, if opaque and not yet part of an
-//      extended occluder, starts an occluder extension whose runs become occlusion polygons.
+//      extended occluder, starts an occluder extension whose runs become occlusion polygons, with the
+//      corner ray of each L that joins them into one region (OcclusionShadow2D::cornerRay).
 //   4. Early termination: if every in-grid voxel of the arc is opaque or occluded, every ray to anything
 //      farther crosses the ring's blocked voxels (DESIGN.md invariant), so the traversal ends. It also ends
 //      when the arc has no in-grid voxel: the grid is convex, so nothing farther is inside it either.
@@ -220,7 +221,8 @@ private:
     void matureShadows(const IVec2& c, std::int32_t k) {
         for (std::size_t i = 0; i < m_active.size();) {
             if (m_active[i].coneFrom() <= k) {
-                mergeCone(m_cones, c, m_active[i].coneLo(), m_active[i].coneHi());
+                const OcclusionShadow2D& a = m_active[i];
+                mergeCone(m_cones, c, AngularInterval{a.coneLo(), a.coneHi(), a.loClosed(), a.hiClosed()});
                 m_active[i] = m_active.back();
                 m_active.pop_back();
             } else {
@@ -281,6 +283,7 @@ private:
         VoxelRun2D runs[3];
         const int n = options.extension ? extendOccluder2D(c, v, isBlocker, true, options.maxRun, runs)
                                         : extendOccluder2D(c, v, opaqueOnly, false, options.maxRun, runs);
+        bool castsShadow[3] = {false, false, false};
         for (int i = 0; i < n; ++i) {
             const VoxelRun2D& run = runs[i];
             const IVec2 step = glm::sign(run.b - run.a);
@@ -290,8 +293,27 @@ private:
                 if (u == run.b) break;
             }
             OcclusionShadow2D shadow(c, run.a, run.b);
+            castsShadow[i] = shadow.valid();
             if (shadow.valid()) {
                 m_pending.push_back(shadow);
+                ++stats.shadows;
+            }
+        }
+        // The corner ray of each L (OcclusionShadow2D.hpp): an arm starts at an end K of the primary run
+        // and is perpendicular to it, and both runs cast shadows, so both have two voxels or more:
+        // condition (1). Condition (2), the runs on opposite sides of ray C->K, is what the extension's
+        // choice of arm direction ("away from the run") amounts to; it is checked here all the same, since
+        // soundness rests on it. The two open cones then meet exactly on that ray, and with it the
+        // occluder's shadow is one region.
+        for (int i = 1; i < n; ++i) {
+            if (!castsShadow[0] || !castsShadow[i]) continue;
+            const IVec2 k = runs[i].a;
+            const IVec2 primaryOther = k == runs[0].a ? runs[0].b : runs[0].a;
+            const IVec2 d = k - c;
+            const std::int64_t sidePrimary = cross2(d, glm::sign(primaryOther - k));
+            const std::int64_t sideArm = cross2(d, glm::sign(runs[i].b - k));
+            if ((sidePrimary > 0 && sideArm < 0) || (sidePrimary < 0 && sideArm > 0)) {
+                m_pending.push_back(OcclusionShadow2D::cornerRay(c, k));
                 ++stats.shadows;
             }
         }

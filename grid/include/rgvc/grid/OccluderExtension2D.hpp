@@ -14,8 +14,11 @@
 //      angularly *away* from the run (the side of ray C->E opposite to the run's other end). An arm that
 //      would turn back into the run's angular range adds no occlusion and is not taken.
 // This is the L at both ends (a "U" or "Z" when both arms exist). Each run is straight and axis-aligned,
-// which is what OcclusionShadow2D's from-region argument needs, so each run casts its own shadow; the
-// runs share their end voxels, so their shadows meet without a gap and fuse.
+// which is what OcclusionShadow2D's from-region argument needs, so each run casts its own shadow. An arm
+// shares its first voxel K with the primary run, and when the two lie on opposite sides of the ray from
+// the camera through K their open shadows meet exactly on that ray; the traversal then adds the ray past
+// K (OcclusionShadow2D::cornerRay, which derives why that is hidden from the whole camera voxel), so the
+// extended occluder's shadow is one region. Arms on the same side of that ray overlap in angle instead.
 #pragma once
 
 #include "rgvc/grid/Math.hpp"
