@@ -25,7 +25,7 @@
 // |PVS|/|visible| is averaged over the checked frames where something is visible and the camera is not
 // inside an object (from inside one the reference sees that object only).
 //
-//   rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] [--quick]
+//   rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] [--no-reference] [--quick]
 //
 // --quick: 3 measured frames after 1 warm-up, every frame checked, small object counts, room-1k only
 // among the rooms and a 256^3 empty grid (a smoke test: a few seconds). Output: a header (machine,
@@ -517,6 +517,7 @@ World<2> random2dScene(int count) {
 
 struct Config {
     int frames = 60, warmup = 5, refEvery = 0; // refEvery 0: chosen from the first check's cost
+    bool noReference = false;                  // --no-reference: timing only (profiling), no accuracy columns
     bool quick = false;
 };
 
@@ -658,7 +659,7 @@ template <int D> void runScene(World<D>& w, const Config& cfg) {
         const Camera<D> cam = w.camera(f);
         const int m = f - cfg.warmup; // measured frame index, < 0 in the warm-up
         Reference truth;
-        const bool check = m >= 0 && m % refEvery == 0;
+        const bool check = !cfg.noReference && m >= 0 && m % refEvery == 0;
         if (check) {
             const auto t0 = std::chrono::steady_clock::now();
             truth = referenceOf(w.objects, cam);
@@ -792,10 +793,11 @@ int main(int argc, char** argv) {
         else if (a == "--frames") cfg.frames = parseInt(a, value(), 1), framesGiven = true;
         else if (a == "--warmup") cfg.warmup = parseInt(a, value(), 0), warmupGiven = true;
         else if (a == "--ref-every") cfg.refEvery = parseInt(a, value(), 1);
+        else if (a == "--no-reference") cfg.noReference = true;
         else if (a == "--quick") cfg.quick = true;
         else if (a == "--help" || a == "-h") {
             std::printf("usage: rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] "
-                        "[--quick]\nscenes:");
+                        "[--no-reference] [--quick]\nscenes:");
             for (const char* s : kScenes)
                 std::printf(" %s", s);
             std::printf("\n");

@@ -3,18 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace rgvc {
 
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-/// Relative margin of every distance and corner test, far above the rounding of a few dozen double
-/// operations (~1e-15) and far below anything that changes a verdict in practice.
-constexpr double kRelMargin = 1e-9;
-/// Relative enlargement of the image and of occludee rectangles: the frustum's basis and the
-/// projections are rounded, and a direction of the view must never fall outside its pixel rectangle.
-constexpr double kImageMargin = 1e-6;
 
 } // namespace
 
@@ -34,6 +29,8 @@ bool OcclusionBuffer3D::begin(const ViewFrustum& view, int rows) {
     m_pixelW = 2 * m_halfW / m_cols;
     m_pixelH = 2 * m_halfH / m_rows;
     m_depth.assign(std::size_t(m_rows) * std::size_t(m_cols), kInf);
+    m_partial.assign(std::size_t(m_rows) * std::size_t(m_cols), 0);
+    m_seamBoxes.clear();
     if (m_latticeW != m_halfW || m_latticeH != m_halfH || m_cornerX.size() != std::size_t(m_cols + 1) ||
         m_cornerY.size() != std::size_t(m_rows + 1)) {
         m_cornerX.resize(std::size_t(m_cols + 1));
@@ -323,7 +320,8 @@ bool OcclusionBuffer3D::hiddenParts(const Vec3& lo, const Vec3& hi, int levels) 
     return true;
 }
 
-template <class FillRow> void OcclusionBuffer3D::drawRect(const PixelRect& r, FillRow&& fillRow) {
+template <class FillRow, class OnPartial>
+void OcclusionBuffer3D::drawRect(const PixelRect& r, FillRow&& fillRow, OnPartial&& onPartial) {
     if (r.i0 > r.i1) return;
     // Two lattice rows at a time; the pixel loop uses selects, not jumps.
     fillRow(r.j0, r.i0, r.i1 + 1, m_rowA.data());
@@ -339,6 +337,8 @@ template <class FillRow> void OcclusionBuffer3D::drawRect(const PixelRect& r, Fi
             const bool in = lo >= 0; // every corner ray passes through the interior
             covered += in;
             row[i] = in ? std::min(row[i], e) : row[i];
+            if constexpr (!std::is_same_v<std::decay_t<OnPartial>, std::nullptr_t>)
+                if (!in && e >= 0) onPartial(i, j);
         }
         std::swap(m_rowA, m_rowB);
     }
@@ -370,7 +370,7 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
                 const double t = cd - std::sqrt(std::max(0.0, rho2l2 + cd * cd));
                 out[i] = cd > cosLimit ? t * scale + pad : -1.0;
             }
-        });
+        }, nullptr);
         return;
     }
     const Box<3>& box = std::get<Box<3>>(shape);
@@ -400,8 +400,13 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
         if (!(tEnter > 0) || !(tExit - tEnter > kRelMargin * tExit + 1e-300)) return -1.0;
         return tEnter * (1 + kRelMargin) + kRelMargin * scale;
     };
+    // The pixels this box covers only in part may be covered by its union with another box drawn this
+    // frame (a wall meeting another at a corner, seen at an angle): OcclusionSeams3D.cpp.
+    const std::uint32_t seam = addSeamBox(lo, hi);
     drawRect(rectOf(lo, hi), [&](int j, int i0, int i1, double* out) {
         for (int i = i0; i <= i1; ++i) out[i] = entry(i, j);
+    }, [&](int i, int j) {
+        if (seam != 0) notePartial(i, j, seam);
     });
 }
 

@@ -58,6 +58,20 @@ struct OcclusionBufferStats {
     std::uint32_t tested = 0;         ///< hidden() calls
     std::uint32_t hidden = 0;         ///< of those, answered true
     std::uint64_t pixelsCovered = 0;  ///< pixels an occluder covered (depth lowered or not)
+    std::uint64_t pixelsFused = 0;    ///< pixels covered only by the union of two or three boxes (seams)
+};
+
+/// The image of a box seen by an OcclusionBuffer3D: a convex polygon in image coordinates (counter-
+/// clockwise; n = 0: its pixel rectangle only), the pixels it can touch, and the padding that covers the
+/// projection's rounding. (Internal to the buffer; public so its implementation files can share it.)
+struct ImageFootprint3D {
+    struct Rect {
+        int i0, i1, j0, j1; // inclusive pixel ranges; empty when i0 > i1
+    };
+    Rect rect{0, -1, 0, -1};
+    int n = 0;
+    double padX = 0, padY = 0;
+    double x[20], y[20];
 };
 
 class OcclusionBuffer3D {
@@ -92,23 +106,21 @@ public:
     const OcclusionBufferStats& stats() const { return m_stats; }
 
 private:
-    struct PixelRect {
-        int i0, i1, j0, j1; // inclusive; empty when i0 > i1
-    };
+    /// Relative margin of every distance and corner test, far above the rounding of a few dozen double
+    /// operations (~1e-15) and far below anything that changes a verdict in practice.
+    static constexpr double kRelMargin = 1e-9;
+    /// Relative enlargement of the image and of occludee rectangles: the frustum's basis and the
+    /// projections are rounded, and a direction of the view must never fall outside its pixel rectangle.
+    static constexpr double kImageMargin = 1e-6;
+
+    using PixelRect = ImageFootprint3D::Rect;
     PixelRect wholeImage() const { return {0, m_cols - 1, 0, m_rows - 1}; }
     /// Pixels whose cones can hold a direction with image coordinates in [x0, x1] x [y0, y1].
     PixelRect pixelsOf(double x0, double x1, double y0, double y1) const;
     /// Outer rectangle of the image of a sphere / box (relative to the apex).
     PixelRect rectOf(const Vec3& c, double radius) const;
     PixelRect rectOf(const Vec3& lo, const Vec3& hi) const;
-    /// The image of an occludee: a convex polygon in image coordinates (n = 0: its rectangle only), the
-    /// pixels it can touch, and the padding that covers the projection's rounding.
-    struct Footprint {
-        PixelRect rect{0, -1, 0, -1};
-        int n = 0;
-        double padX = 0, padY = 0;
-        double x[20], y[20];
-    };
+    using Footprint = ImageFootprint3D;
     /// The footprint of the box (apex-relative) clipped to z >= zMin (z along forward). False when no
     /// point of the box has z >= zMin (none is in view).
     bool footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f) const;
@@ -127,7 +139,23 @@ private:
     /// Draws an occluder over rectangle r. fillRow(j, i0, i1, out) writes out[i] for i in [i0, i1]: the entry
     /// distance along the unit ray through lattice corner (i, j), or a negative value when that ray misses
     /// the occluder's interior.
-    template <class FillRow> void drawRect(const PixelRect& r, FillRow&& fillRow);
+    /// onPartial(i, j) is called for the pixels some but not all of whose corner rays pass through the
+    /// occluder's interior (a null type for none: spheres).
+    template <class FillRow, class OnPartial> void drawRect(const PixelRect& r, FillRow&& fillRow, OnPartial&& onPartial);
+
+    // Seam fusion (OcclusionSeams3D.cpp): boxes drawn this frame with their image polygons, and per pixel
+    // the first two boxes that covered only part of it.
+    struct SeamBox {
+        Vec3 lo, hi;      // apex-relative, as drawn
+        double farthest;  // [voxel units] the farthest distance of the box: a bound on any entry distance
+        double area;      // of its image polygon (which boxes a pixel keeps)
+        Footprint poly;   // its image (exact hull of the clipped box, counter-clockwise, no padding)
+    };
+    std::uint32_t addSeamBox(const Vec3& lo, const Vec3& hi);
+    void notePartial(int i, int j, std::uint32_t box);
+    bool fusedDepth(int i, int j, const std::uint32_t* boxes, int n, double& depth) const;
+    std::vector<SeamBox> m_seamBoxes;
+    std::vector<std::uint32_t> m_partial; // per pixel: 16-bit box index + 1, twice (0: none)
 
     Vec3 m_apex{0.0}, m_forward{0.0}, m_right{0.0}, m_up{0.0};
     double m_halfW = 0, m_halfH = 0, m_pixelW = 0, m_pixelH = 0;

@@ -1,0 +1,207 @@
+// Seam fusion in the occlusion image: a pixel covered by the union of two or three boxes although by
+// none of them alone.
+//
+// Why. A pixel counts for an occluder only when its whole cone passes through that one occluder's
+// interior (OcclusionBuffer3D.hpp). Two walls of a closed room meet at an edge; seen from inside, the
+// pixels along that edge have some corner rays in one wall and some in the other. The boxes overlap in
+// the corner column, so those pixels are covered by one of them as long as the column's image spans a
+// pixel, but with a wide field of view (a pixel of 3 degrees at 150 degrees and 128 rows) or far away it
+// does not, and an object behind the room's edge shows through the gap. A cone is blocked when it lies in
+// the union of the boxes' cones, and for boxes in front of the camera that is a question about convex
+// polygons on the image plane: the pixel's square Q lies inside the union of the boxes' images.
+//
+// The test. Each box drawn this frame keeps its image polygon P (the exact hull of its corners' images,
+// after clipping it to z >= zMin, the smallest z of a point of it in view: only those points matter to
+// a pixel of the image). A pixel that a box covers only in part remembers the box (two per pixel). When
+// a second or third box covers part of it, Q is tested against the union:
+//   Q in P1 u P2 u ...  <=>  every piece of Q \ P1 lies in P2 u ...,
+// where Q \ P1 is cut into convex pieces Q n H1 n ... n H(k-1) n not Hk over P1's edge half-planes Hk.
+// A convex piece lies in a convex polygon when its vertices do. Rounding errs towards "not covered":
+// P1's half-planes are shrunk by a margin before the pieces are cut (so the pieces cover more than
+// Q \ P1), and a vertex is inside only with the margin to spare.
+//
+// The depth. Every ray of Q passes through some box of the union, entering it no later than the largest
+// entry distance of that box over its part of Q, Q n Pk, a convex polygon. A box's entry distance is
+// quasi-convex on the image plane (OcclusionBuffer3D.hpp), so that largest value is at a vertex of
+// Q n Pk; rays through vertices on Pk's outline graze the box, and where rounding makes a slab test miss
+// there, the box's farthest distance bounds the entry. depth = the largest over the boxes, with the
+// relative margin.
+//
+// Cost: only pixels that two boxes both cover in part (the seams) run the polygon test: a few clips of a
+// quadrilateral by at most 20 half-planes.
+#include "rgvc/grid/OcclusionBuffer3D.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace rgvc {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kMaxVertices = 48; // a quadrilateral clipped by at most 20 + 20 half-planes
+
+struct Poly {
+    std::array<double, kMaxVertices> x, y;
+    int n = 0;
+};
+
+/// Signed distance of p from the edge a -> b of a counter-clockwise polygon, positive inside, minus `shift`.
+double edgeSide(double ax, double ay, double bx, double by, double px, double py) {
+    const double ex = bx - ax, ey = by - ay;
+    const double len = std::sqrt(ex * ex + ey * ey);
+    return len > 0 ? (ex * (py - ay) - ey * (px - ax)) / len : -kInf;
+}
+
+/// Margin of the polygon tests in image coordinates: far above the projection's rounding, far below a pixel.
+double marginOf(const ImageFootprint3D& f) {
+    double m = 0;
+    for (int k = 0; k < f.n; ++k) m = std::max({m, std::abs(f.x[k]), std::abs(f.y[k])});
+    return 1e-9 * (1 + m);
+}
+
+/// Keeps the part of `in` with side(p) >= 0 (Sutherland-Hodgman), into `out`.
+template <class Side> void clip(const Poly& in, Side&& side, Poly& out) {
+    out.n = 0;
+    for (int k = 0; k < in.n; ++k) {
+        const int m = k + 1 == in.n ? 0 : k + 1;
+        const double sa = side(in.x[k], in.y[k]), sb = side(in.x[m], in.y[m]);
+        if (sa >= 0 && out.n < kMaxVertices) {
+            out.x[out.n] = in.x[k];
+            out.y[out.n++] = in.y[k];
+        }
+        if ((sa >= 0) != (sb >= 0) && out.n < kMaxVertices) {
+            const double t = sa / (sa - sb);
+            out.x[out.n] = in.x[k] + (in.x[m] - in.x[k]) * t;
+            out.y[out.n++] = in.y[k] + (in.y[m] - in.y[k]) * t;
+        }
+    }
+}
+
+/// Every vertex of q inside f with the margin to spare (so q, convex, lies in f).
+bool inside(const Poly& q, const ImageFootprint3D& f, double margin) {
+    for (int e = 0; e < f.n; ++e) {
+        const int m = e + 1 == f.n ? 0 : e + 1;
+        for (int k = 0; k < q.n; ++k)
+            if (!(edgeSide(f.x[e], f.y[e], f.x[m], f.y[m], q.x[k], q.y[k]) >= margin)) return false;
+    }
+    return true;
+}
+
+/// Whether the convex polygon q lies in the union of polys[0..n).
+bool covered(const Poly& q, const ImageFootprint3D* const* polys, int n) {
+    if (q.n < 3) return true; // nothing of positive area left
+    if (n == 0) return false;
+    const ImageFootprint3D& p = *polys[0];
+    const double margin = marginOf(p);
+    if (inside(q, p, margin)) return true;
+    if (n == 1) return false;
+    // The pieces of q outside p shrunk by the margin: q n H0' n ... n H(k-1)' n not Hk'.
+    Poly rest = q, piece, next;
+    for (int e = 0; e < p.n && rest.n >= 3; ++e) {
+        const int m = e + 1 == p.n ? 0 : e + 1;
+        const double ax = p.x[e], ay = p.y[e], bx = p.x[m], by = p.y[m];
+        clip(rest, [&](double x, double y) { return margin - edgeSide(ax, ay, bx, by, x, y); }, piece);
+        if (piece.n >= 3 && !covered(piece, polys + 1, n - 1)) return false;
+        clip(rest, [&](double x, double y) { return edgeSide(ax, ay, bx, by, x, y) - margin; }, next);
+        rest = next;
+    }
+    return true;
+}
+
+} // namespace
+
+std::uint32_t OcclusionBuffer3D::addSeamBox(const Vec3& lo, const Vec3& hi) {
+    if (m_seamBoxes.size() >= 0xFFFEu) return 0; // the per-pixel slots hold 16 bits
+    SeamBox b{lo, hi, 0.0, 0.0, {}};
+    const Vec3 far{std::max(-lo.x, hi.x), std::max(-lo.y, hi.y), std::max(-lo.z, hi.z)};
+    b.farthest = std::sqrt(lengthSquared<3>(far));
+    const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), lo, hi)));
+    if (!(nearest > 0) || !footprintOf(lo, hi, zMinOf(nearest), b.poly) || b.poly.n < 3) return 0;
+    for (int k = 0; k < b.poly.n; ++k) { // shoelace
+        const int m = k + 1 == b.poly.n ? 0 : k + 1;
+        b.area += 0.5 * (b.poly.x[k] * b.poly.y[m] - b.poly.x[m] * b.poly.y[k]);
+    }
+    m_seamBoxes.push_back(b);
+    return std::uint32_t(m_seamBoxes.size()); // index + 1
+}
+
+void OcclusionBuffer3D::notePartial(int i, int j, std::uint32_t box) {
+    std::uint32_t& slots = m_partial[std::size_t(j) * std::size_t(m_cols) + std::size_t(i)];
+    const std::uint32_t a = slots & 0xFFFFu, b = slots >> 16;
+    if (a == box || b == box) return;
+    if (a == 0) {
+        slots = box;
+        return;
+    }
+    double& depth = m_depth[std::size_t(j) * std::size_t(m_cols) + std::size_t(i)];
+    double fused;
+    const std::uint32_t pairA[2] = {a, box};
+    if (fusedDepth(i, j, pairA, 2, fused) && fused < depth) {
+        depth = fused;
+        ++m_stats.pixelsFused;
+    }
+    if (b != 0) {
+        const std::uint32_t pairB[2] = {b, box}, triple[3] = {a, b, box};
+        if (fusedDepth(i, j, pairB, 2, fused) && fused < depth) {
+            depth = fused;
+            ++m_stats.pixelsFused;
+        }
+        if (fusedDepth(i, j, triple, 3, fused) && fused < depth) {
+            depth = fused;
+            ++m_stats.pixelsFused;
+        }
+        // Both slots taken: keep the two boxes with the largest images (a wall's box, rather than the
+        // small objects along its edge that were drawn before it).
+        const double areaA = m_seamBoxes[a - 1].area, areaB = m_seamBoxes[b - 1].area, area = m_seamBoxes[box - 1].area;
+        if (area > std::min(areaA, areaB)) slots = areaA < areaB ? (box | (b << 16)) : (a | (box << 16));
+        return;
+    }
+    slots |= box << 16;
+}
+
+bool OcclusionBuffer3D::fusedDepth(int i, int j, const std::uint32_t* boxes, int n, double& depth) const {
+    Poly q;
+    const double x0 = m_cornerX[std::size_t(i)], x1 = m_cornerX[std::size_t(i) + 1];
+    const double y0 = m_cornerY[std::size_t(j)], y1 = m_cornerY[std::size_t(j) + 1];
+    q.n = 4;
+    q.x = {x0, x1, x1, x0};
+    q.y = {y0, y0, y1, y1};
+    const ImageFootprint3D* polys[3] = {nullptr, nullptr, nullptr};
+    for (int k = 0; k < n; ++k) polys[k] = &m_seamBoxes[boxes[k] - 1].poly;
+    if (!covered(q, polys, n)) return false;
+    // The largest entry distance of each box over its part of Q (at a vertex of Q n Pk).
+    depth = 0;
+    for (int k = 0; k < n; ++k) {
+        const SeamBox& b = m_seamBoxes[boxes[k] - 1];
+        Poly part = q, next;
+        for (int e = 0; e < b.poly.n && part.n > 0; ++e) {
+            const int m = e + 1 == b.poly.n ? 0 : e + 1;
+            const double ax = b.poly.x[e], ay = b.poly.y[e], bx = b.poly.x[m], by = b.poly.y[m];
+            clip(part, [&](double x, double y) { return edgeSide(ax, ay, bx, by, x, y); }, next);
+            part = next;
+        }
+        for (int v = 0; v < part.n; ++v) {
+            const Vec3 d = glm::normalize(m_forward + part.x[v] * m_right + part.y[v] * m_up);
+            double tEnter = -kInf, tExit = kInf;
+            for (int a = 0; a < 3; ++a) {
+                if (d[a] == 0) {
+                    if (b.lo[a] > 0 || b.hi[a] < 0) tEnter = kInf;
+                    continue;
+                }
+                double t1 = b.lo[a] / d[a], t2 = b.hi[a] / d[a];
+                if (t1 > t2) std::swap(t1, t2);
+                tEnter = std::max(tEnter, t1);
+                tExit = std::min(tExit, t2);
+            }
+            const double entry = tEnter <= tExit * (1 + 1e-12) && tEnter >= 0 ? tEnter : b.farthest;
+            depth = std::max(depth, std::min(entry, b.farthest));
+        }
+    }
+    depth = depth * (1 + kRelMargin) + kRelMargin * depth;
+    return true;
+}
+
+} // namespace rgvc
