@@ -30,6 +30,7 @@ bool OcclusionBuffer3D::begin(const ViewFrustum& view, int rows) {
     m_pixelH = 2 * m_halfH / m_rows;
     m_depth.assign(std::size_t(m_rows) * std::size_t(m_cols), kInf);
     m_partial.assign(std::size_t(m_rows) * std::size_t(m_cols), 0);
+    m_partialCorners.assign(std::size_t(m_rows) * std::size_t(m_cols), 0);
     m_seamBoxes.clear();
     if (m_latticeW != m_halfW || m_latticeH != m_halfH || m_cornerX.size() != std::size_t(m_cols + 1) ||
         m_cornerY.size() != std::size_t(m_rows + 1)) {
@@ -338,7 +339,9 @@ void OcclusionBuffer3D::drawRect(const PixelRect& r, FillRow&& fillRow, OnPartia
             covered += in;
             row[i] = in ? std::min(row[i], e) : row[i];
             if constexpr (!std::is_same_v<std::decay_t<OnPartial>, std::nullptr_t>)
-                if (!in && e >= 0) onPartial(i, j);
+                if (!in && e >= 0) // which corner rays pass through the interior: bit 0, 1 on row j, 2, 3 on j + 1
+                    onPartial(i, j, unsigned(a[i] >= 0) | unsigned(a[i + 1] >= 0) << 1 | unsigned(b[i] >= 0) << 2 |
+                                        unsigned(b[i + 1] >= 0) << 3);
         }
         std::swap(m_rowA, m_rowB);
     }
@@ -405,8 +408,8 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
     const std::uint32_t seam = addSeamBox(lo, hi);
     drawRect(rectOf(lo, hi), [&](int j, int i0, int i1, double* out) {
         for (int i = i0; i <= i1; ++i) out[i] = entry(i, j);
-    }, [&](int i, int j) {
-        if (seam != 0) notePartial(i, j, seam);
+    }, [&](int i, int j, unsigned corners) {
+        if (seam != 0) notePartial(i, j, seam, corners);
     });
 }
 

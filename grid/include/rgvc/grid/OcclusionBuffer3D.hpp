@@ -139,8 +139,8 @@ private:
     /// Draws an occluder over rectangle r. fillRow(j, i0, i1, out) writes out[i] for i in [i0, i1]: the entry
     /// distance along the unit ray through lattice corner (i, j), or a negative value when that ray misses
     /// the occluder's interior.
-    /// onPartial(i, j) is called for the pixels some but not all of whose corner rays pass through the
-    /// occluder's interior (a null type for none: spheres).
+    /// onPartial(i, j, corners) is called for the pixels some but not all of whose corner rays pass through
+    /// the occluder's interior, with a bit per such corner (a null type for none: spheres).
     template <class FillRow, class OnPartial> void drawRect(const PixelRect& r, FillRow&& fillRow, OnPartial&& onPartial);
 
     // Seam fusion (OcclusionSeams3D.cpp): boxes drawn this frame with their image polygons, and per pixel
@@ -152,10 +152,11 @@ private:
         Footprint poly;   // its image (exact hull of the clipped box, counter-clockwise, no padding)
     };
     std::uint32_t addSeamBox(const Vec3& lo, const Vec3& hi);
-    void notePartial(int i, int j, std::uint32_t box);
+    void notePartial(int i, int j, std::uint32_t box, unsigned corners);
     bool fusedDepth(int i, int j, const std::uint32_t* boxes, int n, double& depth) const;
     std::vector<SeamBox> m_seamBoxes;
     std::vector<std::uint32_t> m_partial; // per pixel: 16-bit box index + 1, twice (0: none)
+    std::vector<std::uint8_t> m_partialCorners; // per pixel: the corner rays each of those boxes holds (4 bits each)
 
     Vec3 m_apex{0.0}, m_forward{0.0}, m_right{0.0}, m_up{0.0};
     double m_halfW = 0, m_halfH = 0, m_pixelW = 0, m_pixelH = 0;
