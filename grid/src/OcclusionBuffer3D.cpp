@@ -112,7 +112,7 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec
     return pixelsOf(x0 - padX, x1 + padX, y0 - padY, y1 + padY);
 }
 
-bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f) const {
+bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f, bool forSeams) const {
     // The box's points in the view at distance >= nearest have z >= zMin (zMinOf), so the image of the box
     // clipped to the half-space z >= zMin holds every pixel that can show one of them. The clipped box is a
     // convex polytope whose vertices are the corners with z >= zMin and the points where the box's edges
@@ -162,6 +162,8 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
     f.padX = 1e-7 * (std::abs(x0) + std::abs(x1) + 1.0);
     f.padY = 1e-7 * (std::abs(y0) + std::abs(y1) + 1.0);
     f.rect = pixelsOf(x0 - f.padX, x1 + f.padX, y0 - f.padY, y1 + f.padY);
+    // A rectangle of 2 x 2 pixels or less gains nothing from the polygon.
+    if (f.rect.i1 - f.rect.i0 < 2 && f.rect.j1 - f.rect.j0 < 2 && !forSeams) return true;
     // The hull (Andrew's monotone chain; at most 20 points, so sorting by hand is not worth a dependency).
     int idx[20];
     for (int k = 0; k < n; ++k) idx[k] = k;
@@ -211,11 +213,14 @@ bool OcclusionBuffer3D::rowSpan(const Footprint& f, int j, int& i0, int& i1) con
         x1 = std::max({x1, xa, xb});
     }
     if (!(x0 <= x1)) return false;
-    const double yMid = -m_halfH + (j + 0.5) * m_pixelH; // any y of the row: only the columns are wanted
-    const PixelRect r = pixelsOf(x0 - f.padX, x1 + f.padX, yMid, yMid);
-    i0 = std::max(i0, r.i0);
-    i1 = std::min(i1, r.i1);
-    return r.i0 <= r.i1 && i0 <= i1;
+    // Columns as pixelsOf computes them (the same index margin), clamped to the rectangle before the
+    // conversion to int: a huge occludee's coordinates overflow an int (found by test_stress3d's huge
+    // spheres: an overflowing column emptied the row, and the sphere was reported hidden).
+    const double f0 = (x0 - f.padX + m_halfW) / m_pixelW - 1e-6, f1 = (x1 + f.padX + m_halfW) / m_pixelW + 1e-6;
+    if (!(f0 < double(i1) + 1) || !(f1 >= double(i0))) return false;
+    i0 = std::max(i0, int(std::floor(std::max(f0, double(i0)))));
+    i1 = std::min(i1, int(std::floor(std::min(f1, double(i1)))));
+    return i0 <= i1;
 }
 
 double OcclusionBuffer3D::nearestDistance(const Shape<3>& shape, double grow) const {
@@ -239,11 +244,14 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
         const double rad = b->radius + grow;
         lo = c - rad;
         hi = c + rad;
-        // The bounding box's footprint, cut to the sphere's tangent rectangle where it lies in front.
-        inView = footprintOf(lo, hi, zMinOf(nearest), f);
-        if (inView && glm::dot(c, m_forward) > rad * 1.001) {
-            const PixelRect t = rectOf(c, rad);
-            f.rect = {std::max(f.rect.i0, t.i0), std::min(f.rect.i1, t.i1), std::max(f.rect.j0, t.j0), std::min(f.rect.j1, t.j1)};
+        // In front of the camera: its exact tangent rectangle (the refinement below handles what a
+        // rectangle adds to the disc-like image). Otherwise its bounding box's clipped footprint.
+        if (glm::dot(c, m_forward) > rad * 1.001) {
+            f.n = 0;
+            f.rect = rectOf(c, rad);
+            inView = true;
+        } else {
+            inView = footprintOf(lo, hi, zMinOf(nearest), f);
         }
     } else {
         const Box<3>& box = std::get<Box<3>>(shape);
@@ -265,7 +273,9 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
     // belongs to some part at every level, and that part's test would fail on that pixel; the box's
     // centre is checked first.
     if (!canHide(0.5 * (lo + hi))) return false;
-    if (!hiddenParts(lo, hi, 2)) return false;
+    const auto* ball = std::get_if<Ball<3>>(&shape);
+    const Vec3 centre = 0.5 * (lo + hi);
+    if (!hiddenParts(lo, hi, 2, ball != nullptr ? &centre : nullptr, ball != nullptr ? ball->radius + grow : 0.0)) return false;
     ++m_stats.hidden;
     return true;
 }
@@ -303,7 +313,7 @@ bool OcclusionBuffer3D::scanFootprint(const Footprint& f, double nearest) const 
     return true;
 }
 
-bool OcclusionBuffer3D::hiddenParts(const Vec3& lo, const Vec3& hi, int levels) const {
+bool OcclusionBuffer3D::hiddenParts(const Vec3& lo, const Vec3& hi, int levels, const Vec3* centre, double radius) const {
     const Vec3 mid = 0.5 * (lo + hi);
     for (int k = 0; k < 8; ++k) {
         Vec3 l, h;
@@ -312,11 +322,14 @@ bool OcclusionBuffer3D::hiddenParts(const Vec3& lo, const Vec3& hi, int levels) 
             l[a] = upper ? mid[a] : lo[a];
             h[a] = upper ? hi[a] : mid[a];
         }
+        // A part of a sphere's bounding cube that misses the (grown) sphere holds none of its points.
+        if (centre != nullptr && lengthSquared<3>(glm::clamp(*centre, l, h) - *centre) > radius * radius * (1 + 1e-9))
+            continue;
         const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), l, h))) * (1 - kRelMargin);
         if (!(nearest > 0)) return false;
         Footprint f;
         if (!footprintOf(l, h, zMinOf(nearest), f) || scanFootprint(f, nearest)) continue;
-        if (levels <= 1 || !canHide(0.5 * (l + h)) || !hiddenParts(l, h, levels - 1)) return false;
+        if (levels <= 1 || !canHide(0.5 * (l + h)) || !hiddenParts(l, h, levels - 1, centre, radius)) return false;
     }
     return true;
 }

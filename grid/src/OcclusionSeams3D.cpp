@@ -119,11 +119,14 @@ std::uint32_t OcclusionBuffer3D::addSeamBox(const Vec3& lo, const Vec3& hi) {
     const Vec3 far{std::max(-lo.x, hi.x), std::max(-lo.y, hi.y), std::max(-lo.z, hi.z)};
     b.farthest = std::sqrt(lengthSquared<3>(far));
     const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), lo, hi)));
-    if (!(nearest > 0) || !footprintOf(lo, hi, zMinOf(nearest), b.poly) || b.poly.n < 3) return 0;
+    if (!(nearest > 0) || !footprintOf(lo, hi, zMinOf(nearest), b.poly, true) || b.poly.n < 3) return 0;
     for (int k = 0; k < b.poly.n; ++k) { // shoelace
         const int m = k + 1 == b.poly.n ? 0 : k + 1;
         b.area += 0.5 * (b.poly.x[k] * b.poly.y[m] - b.poly.x[m] * b.poly.y[k]);
     }
+    // Boxes whose image spans less than 4 pixels are left out: their seams hide next to nothing, and a
+    // cloud of small boxes would run the polygon test at every shared pixel.
+    if (b.area < 4 * m_pixelW * m_pixelH) return 0;
     m_seamBoxes.push_back(b);
     return std::uint32_t(m_seamBoxes.size()); // index + 1
 }

@@ -227,7 +227,10 @@ private:
                 const VoxelKey row = grid.linearIndex(IVec3{0, y, z});
                 for (std::int32_t x = lo.x; x <= hi.x; ++x) storage.setUsed(VoxelKey(row + std::uint32_t(x)), stamp);
             }
-        image.draw(Box<3>{Vec3(lo), Vec3(hi + 1)}, frustum.slack());
+        const Box<3> box{Vec3(lo), Vec3(hi + 1)};
+        const Vec3 half = 0.5 * Vec3(hi + 1 - lo);
+        if (!image.spans(std::sqrt(lengthSquared<3>(half)), image.nearestDistance(box, 0), kMinOccluderPixels)) return;
+        image.draw(box, frustum.slack());
         ++st.fusedBoxes;
     }
 
@@ -237,6 +240,7 @@ private:
         std::uint32_t ids = 0;
     };
     static constexpr std::int32_t kMaxGrow = 64;
+    static constexpr double kMinOccluderPixels = 4; // smaller fused boxes are not drawn (OcclusionBuffer3D::spans)
     std::array<RowInfo, 64> m_rows{}; // a brick's 8 x 8 rows
     std::vector<Node> m_stack;
 };

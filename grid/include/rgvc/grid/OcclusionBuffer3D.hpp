@@ -48,6 +48,7 @@
 #include "rgvc/grid/Shapes.hpp"
 #include "rgvc/grid/ViewFrustum.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -99,6 +100,13 @@ public:
     /// shape is empty or holds the camera).
     void draw(const Shape<3>& shape, double shrink);
 
+    /// Whether an occluder of bounding radius `radius` whose nearest point is `nearest` away [voxel units]
+    /// spans at least `pixels` pixels across: smaller ones cover too little of the image to hide a block
+    /// of the traversal, and the brick traversal leaves them to the refinement pass (which draws
+    /// everything). A cost heuristic only: drawing less can only hide less.
+    bool spans(double radius, double nearest, double pixels) const {
+        return m_active && 2 * radius >= pixels * std::min(m_pixelW, m_pixelH) * std::max(nearest, 1e-300);
+    }
     int rows() const { return m_rows; }
     int cols() const { return m_cols; }
     /// Depth of pixel (col, row), +inf where no occluder covers it (for pictures and tests).
@@ -123,7 +131,8 @@ private:
     using Footprint = ImageFootprint3D;
     /// The footprint of the box (apex-relative) clipped to z >= zMin (z along forward). False when no
     /// point of the box has z >= zMin (none is in view).
-    bool footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f) const;
+    /// forSeams: always compute the polygon (otherwise a footprint of 2 x 2 pixels or less keeps n = 0).
+    bool footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f, bool forSeams = false) const;
     /// The columns of pixel row j the footprint can touch; false when none.
     bool rowSpan(const Footprint& f, int j, int& i0, int& i1) const;
     /// Occludee tests (OcclusionBuffer3D.cpp): the smallest z of a point in view at distance >= nearest;
@@ -133,7 +142,8 @@ private:
     double zMinOf(double nearest) const;
     bool scanFootprint(const Footprint& f, double nearest) const;
     bool canHide(const Vec3& p) const;
-    bool hiddenParts(const Vec3& lo, const Vec3& hi, int levels) const;
+    /// centre, radius: the sphere whose bounding cube lo..hi is (parts missing it are skipped), or null.
+    bool hiddenParts(const Vec3& lo, const Vec3& hi, int levels, const Vec3* centre, double radius) const;
     /// 1 / |forward + x_i right + y_j up| = 1 / sqrt(1 + x_i^2 + y_j^2) for lattice corner (i, j).
     double invLength(int i, int j) const { return m_invLen[std::size_t(j) * std::size_t(m_cols + 1) + std::size_t(i)]; }
     /// Draws an occluder over rectangle r. fillRow(j, i0, i1, out) writes out[i] for i in [i0, i1]: the entry
