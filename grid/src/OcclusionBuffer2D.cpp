@@ -1,0 +1,367 @@
+// OcclusionBuffer2D: see the header for the geometry, the soundness argument and the margins.
+#include "rgvc/grid/OcclusionBuffer2D.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace rgvc {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kTwoPi = 2 * kPi;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kEps = 2.220446049250313e-16; // DBL_EPSILON
+/// Relative margin of every distance and "passes through the interior" test, far above the rounding of
+/// a few dozen double operations (~1e-15) and far below anything that changes a verdict in practice.
+constexpr double kRelMargin = 1e-9;
+/// [Radians] widening of every angular extent (both sides), and of the buffer's range over the wedge.
+constexpr double kAnglePad = 1e-10;
+/// [Bins] widening of every bin index range (both sides).
+constexpr double kIndexBias = 1e-6;
+/// Internal shrink / growth: this many ulps of the largest coordinate magnitude (apex or shape).
+constexpr double kPadUlps = 32;
+/// Occludees nearer than this fraction of their apex-relative extent are not hidden (ill-conditioned).
+constexpr double kMinNearestRel = 1e-9;
+/// Widest bin (radians): well below pi, where the header's argument (2) needs it.
+constexpr double kMaxBinWidth = 0.75 * kPi;
+
+double absMax(const Vec2& v) { return std::max(std::abs(v.x), std::abs(v.y)); }
+
+/// The shape's bounding box and the largest coordinate magnitude of it and of the apex.
+double magnitudeOf(const Shape<2>& shape, const Vec2& apex, Box<2>& bounds) {
+    bounds = boundsOf<2>(shape);
+    return std::max({absMax(apex), absMax(bounds.min), absMax(bounds.max)});
+}
+
+/// Angular half-width [radians] of a disc of radius rho seen from distance l > rho:
+/// asin(rho / l) = atan2(rho, sqrt(l^2 - rho^2)), with l^2 - rho^2 as (l - rho)(l + rho).
+double halfAngle(double rho, double l) { return rho > 0 ? std::atan2(rho, std::sqrt((l - rho) * (l + rho))) : 0.0; }
+
+/// Signed angle [radians, (-pi, pi]] from r to v (counter-clockwise positive).
+double angleFrom(const Vec2& r, const Vec2& v) { return std::atan2(cross2(r, v), glm::dot(r, v)); }
+
+} // namespace
+
+bool OcclusionBuffer2D::begin(const ViewWedge& view, int bins) {
+    m_stats = {};
+    m_active = false;
+    const double fov = view.fov();
+    if (bins < 1 || !(fov >= kMinFov) || !allFinite<2>(view.apex()) || !allFinite<2>(view.direction())) return false;
+    m_apex = view.apex();
+    m_dir = view.direction(); // unit (safeNormalize)
+    const double half = 0.5 * fov * (1 + 1e-9) + kAnglePad;
+    m_full = view.isFullCircle() || half >= kPi;
+    m_half = m_full ? kPi : half;
+    m_span = 2 * m_half;
+    int n = std::min(bins, kMaxBins);
+    n = std::max(n, int(std::ceil(m_span / kMaxBinWidth)));
+    m_bins = n;
+    m_binW = m_span / n;
+    if (m_cacheHalf != m_half || m_cacheBins != n) {
+        m_relCos.resize(std::size_t(n) + 1);
+        m_relSin.resize(std::size_t(n) + 1);
+        for (int b = 0; b <= n; ++b) {
+            const double a = -m_half + b * m_binW;
+            m_relCos[std::size_t(b)] = std::cos(a);
+            m_relSin[std::size_t(b)] = std::sin(a);
+        }
+        if (m_full) { // ray n is ray 0: the bins wrap around exactly
+            m_relCos[std::size_t(n)] = m_relCos[0];
+            m_relSin[std::size_t(n)] = m_relSin[0];
+        }
+        m_cacheHalf = m_half;
+        m_cacheBins = n;
+    }
+    m_rayX.resize(std::size_t(n) + 1);
+    m_rayY.resize(std::size_t(n) + 1);
+    for (std::size_t b = 0; b <= std::size_t(n); ++b) { // the direction rotated by the ray's angle
+        const double c = m_relCos[b], s = m_relSin[b];
+        m_rayX[b] = c * m_dir.x - s * m_dir.y;
+        m_rayY[b] = s * m_dir.x + c * m_dir.y;
+    }
+    m_depth.assign(std::size_t(n), kInf);
+    if (m_planes.capacity() < 64) m_planes.reserve(64);
+    m_active = true;
+    return true;
+}
+
+double OcclusionBuffer2D::binCoord(const Vec2& v) const { return angleFrom(m_dir, v) + m_half; }
+
+template <class F> bool OcclusionBuffer2D::forEachRun(double x0, double x1, F&& f) const {
+    if (!(x0 <= x1)) return f(0, m_bins - 1); // NaN: nothing is known
+    // A direction's bin coordinate is defined modulo 2 pi. The extents built here have x0 > -2 pi - pad and
+    // x1 < 3 pi + pad (binCoord in [-pi, 2 pi], offsets within (-pi, pi)), so shifts by -1..1 turns reach
+    // every representative in [0, span]; -2..2 costs nothing and leaves room.
+    for (int k = -2; k <= 2; ++k) {
+        const double fa = (x0 + k * kTwoPi) / m_binW - kIndexBias, fb = (x1 + k * kTwoPi) / m_binW + kIndexBias;
+        if (!(fb >= 0) || !(fa < double(m_bins))) continue;
+        const int i0 = fa <= 0 ? 0 : int(fa);
+        const int i1 = fb >= double(m_bins) ? m_bins - 1 : int(fb);
+        if (!f(i0, i1)) return false;
+    }
+    return true;
+}
+
+bool OcclusionBuffer2D::coveredNearer(double x0, double x1, double nearest) const {
+    return forEachRun(x0, x1, [&](int i0, int i1) {
+        for (int i = i0; i <= i1; ++i)
+            if (!(m_depth[std::size_t(i)] < nearest)) return false;
+        return true;
+    });
+}
+
+void OcclusionBuffer2D::boxExtent(const Vec2& lo, const Vec2& hi, double& x0, double& x1) const {
+    // Measured from the centre, a point of the box: every corner is within (-pi, pi) of it (O is outside
+    // the box, so the box lies in an open half-plane through O), and the extent is [min, max] of the
+    // corners' angles (the box is the convex hull of its corners).
+    const Vec2 r = 0.5 * (lo + hi);
+    double dMin = 0, dMax = 0;
+    for (int k = 0; k < 4; ++k) {
+        const Vec2 q{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y};
+        const double d = angleFrom(r, q);
+        dMin = std::min(dMin, d);
+        dMax = std::max(dMax, d);
+    }
+    const double x = binCoord(r);
+    x0 = x + dMin - kAnglePad;
+    x1 = x + dMax + kAnglePad;
+}
+
+bool OcclusionBuffer2D::canHide(const Vec2& p) const {
+    const double x = binCoord(p);
+    if (!m_full && (!(x >= 0) || !(x <= m_span))) return true; // not in the buffer's range: no verdict
+    const int b = std::clamp(int(std::floor(x / m_binW)), 0, m_bins - 1);
+    return m_depth[std::size_t(b)] < std::sqrt(lengthSquared<2>(p)) * (1 - kRelMargin);
+}
+
+bool OcclusionBuffer2D::hiddenParts(const Vec2& lo, const Vec2& hi, int levels, double pad, double minNearest) const {
+    const Vec2 mid = 0.5 * (lo + hi);
+    for (int k = 0; k < 4; ++k) {
+        const Vec2 l{(k & 1) ? mid.x : lo.x, (k & 2) ? mid.y : lo.y};
+        const Vec2 h{(k & 1) ? hi.x : mid.x, (k & 2) ? hi.y : mid.y};
+        const double nearest = std::sqrt(lengthSquared<2>(glm::clamp(Vec2(0.0), l, h))) * (1 - kRelMargin) - pad;
+        if (!(nearest > minNearest)) return false;
+        double x0, x1;
+        boxExtent(l, h, x0, x1);
+        if (coveredNearer(x0, x1, nearest)) continue;
+        if (levels <= 1 || !canHide(0.5 * (l + h)) || !hiddenParts(l, h, levels - 1, pad, minNearest)) return false;
+    }
+    return true;
+}
+
+double OcclusionBuffer2D::nearestDistance(const Shape<2>& shape, double grow) const {
+    if (const auto* b = std::get_if<Ball<2>>(&shape))
+        return std::max(0.0, std::sqrt(lengthSquared<2>(b->center - m_apex)) - (b->radius + grow));
+    if (const auto* x = std::get_if<Box<2>>(&shape)) {
+        const Vec2 nearest = glm::clamp(m_apex, x->min - grow, x->max + grow);
+        return std::sqrt(lengthSquared<2>(nearest - m_apex));
+    }
+    // A convex polygon: 0 when the apex is inside (on the inner side of every edge), else the smallest
+    // distance to an edge segment, less the growth.
+    const std::vector<Vec2>& pts = std::get<ConvexPolygon>(shape).points;
+    const std::size_t n = pts.size();
+    if (n == 0) return kInf;
+    double area2 = 0;
+    for (std::size_t k = 0; k < n; ++k) area2 += cross2(pts[k] - m_apex, pts[(k + 1) % n] - m_apex);
+    const double orient = area2 >= 0 ? 1.0 : -1.0;
+    bool inside = n >= 3;
+    double best = kInf;
+    for (std::size_t k = 0; k < n; ++k) {
+        const Vec2 a = pts[k] - m_apex, e = pts[(k + 1) % n] - pts[k];
+        inside = inside && orient * cross2(a, e) >= 0;
+        const double e2 = lengthSquared<2>(e);
+        const double t = e2 > 0 ? std::clamp(-glm::dot(a, e) / e2, 0.0, 1.0) : 0.0;
+        best = std::min(best, lengthSquared<2>(a + t * e));
+    }
+    if (inside) return 0.0;
+    return std::max(0.0, std::sqrt(best) - grow);
+}
+
+bool OcclusionBuffer2D::hidden(const Shape<2>& shape, double grow, double distance) {
+    if (!m_active) return false;
+    ++m_stats.tested;
+    Box<2> bounds;
+    const double pad = kPadUlps * kEps * magnitudeOf(shape, m_apex, bounds);
+    const double g = std::max(0.0, grow) + pad;
+    const double nearest = distance * (1 - kRelMargin) - pad;
+    // The grown bounding box, apex-relative: the parts of the refinement.
+    Vec2 lo, hi;
+    if (const auto* b = std::get_if<Ball<2>>(&shape)) {
+        lo = b->center - m_apex - (b->radius + g);
+        hi = b->center - m_apex + (b->radius + g);
+    } else {
+        lo = bounds.min - m_apex - g;
+        hi = bounds.max - m_apex + g;
+    }
+    const double minNearest = kMinNearestRel * std::max(absMax(lo), absMax(hi));
+    if (!(nearest > minNearest)) return false; // holds or (nearly) touches the camera
+    double x0, x1;
+    if (const auto* b = std::get_if<Ball<2>>(&shape)) {
+        const Vec2 c = b->center - m_apex;
+        const double rho = b->radius + g, l = std::sqrt(lengthSquared<2>(c));
+        if (!(l > rho)) return false;
+        const double x = binCoord(c), beta = halfAngle(rho, l);
+        x0 = x - beta - kAnglePad;
+        x1 = x + beta + kAnglePad;
+    } else if (std::holds_alternative<Box<2>>(shape)) {
+        boxExtent(lo, hi, x0, x1);
+    } else {
+        // The polygon grown by g is the convex hull of the discs of radius g at its vertices: its extent
+        // is the smallest arc holding theirs, measured from the vertices' average (a point inside it).
+        const std::vector<Vec2>& pts = std::get<ConvexPolygon>(shape).points;
+        if (pts.size() < 3) return false;
+        Vec2 r{0.0};
+        for (const Vec2& p : pts) r += p - m_apex;
+        r /= double(pts.size());
+        double dMin = 0, dMax = 0;
+        for (const Vec2& p : pts) {
+            const Vec2 v = p - m_apex;
+            const double l = std::sqrt(lengthSquared<2>(v));
+            if (!(l > g)) return false; // the camera is in the grown polygon
+            const double d = angleFrom(r, v), beta = halfAngle(g, l);
+            dMin = std::min(dMin, d - beta);
+            dMax = std::max(dMax, d + beta);
+        }
+        const double x = binCoord(r);
+        x0 = x + dMin - kAnglePad;
+        x1 = x + dMax + kAnglePad;
+    }
+    if (coveredNearer(x0, x1, nearest)) {
+        ++m_stats.hidden;
+        return true;
+    }
+    // Refinement (see the header): the bounding box in quarters, two levels deep, after the early-out on
+    // its centre.
+    if (!canHide(0.5 * (lo + hi))) return false;
+    if (!hiddenParts(lo, hi, 2, pad, minNearest)) return false;
+    ++m_stats.hidden;
+    return true;
+}
+
+double OcclusionBuffer2D::planeEntry(double ux, double uy, double scale) const {
+    double tEnter = -kInf, tExit = kInf, aEnter = 1, aExit = 1;
+    for (const HalfPlane& p : m_planes) {
+        const double a = p.nx * ux + p.ny * uy;
+        if (a > 0) {
+            const double t = p.h / a;
+            if (t < tExit) tExit = t, aExit = a;
+        } else if (a < 0) {
+            const double t = p.h / a;
+            if (t > tEnter) tEnter = t, aEnter = -a;
+        } else if (!(p.h > 0)) {
+            return -1.0; // parallel to the edge line, on or outside it
+        }
+    }
+    // h / a carries a relative error of a few ulps / |a| (a is rounded absolutely): near-parallel binding
+    // edges get a margin of that size on top of kRelMargin.
+    const double mEnter = kRelMargin + 8 * kEps / aEnter, mExit = 8 * kEps / aExit;
+    if (!(tEnter > 0) || !(tExit - tEnter > (mEnter + mExit) * tExit + kRelMargin * scale * 1e-3)) return -1.0;
+    return tEnter * (1 + mEnter) + kRelMargin * scale;
+}
+
+template <class Entry> void OcclusionBuffer2D::drawRuns(double x0, double x1, Entry&& entry) {
+    std::uint64_t covered = 0;
+    forEachRun(x0, x1, [&](int i0, int i1) {
+        double ePrev = entry(m_rayX[std::size_t(i0)], m_rayY[std::size_t(i0)]);
+        for (int i = i0; i <= i1; ++i) {
+            const double eNext = entry(m_rayX[std::size_t(i) + 1], m_rayY[std::size_t(i) + 1]);
+            if (ePrev >= 0 && eNext >= 0) { // both boundary rays pass through the interior
+                double& d = m_depth[std::size_t(i)];
+                d = std::min(d, std::max(ePrev, eNext));
+                ++covered;
+            }
+            ePrev = eNext;
+        }
+        return true;
+    });
+    m_stats.binsCovered += covered;
+    if (covered != 0) ++m_stats.occludersDrawn;
+}
+
+void OcclusionBuffer2D::draw(const Shape<2>& shape, double shrink) {
+    if (!m_active) return;
+    Box<2> bounds;
+    const double pad = kPadUlps * kEps * magnitudeOf(shape, m_apex, bounds);
+    const double s = std::max(0.0, shrink) + pad;
+    if (const auto* b = std::get_if<Ball<2>>(&shape)) {
+        const Vec2 c = b->center - m_apex;
+        const double rho = b->radius - s, l2 = lengthSquared<2>(c);
+        // Inside or nearly touching the camera: skipped (the extent would be nearly a half-circle, and the
+        // entry distances ill-conditioned).
+        if (!(rho > 0) || !(l2 > rho * rho * (1 + 1e-6))) return;
+        const double l = std::sqrt(l2), beta = halfAngle(rho, l), x = binCoord(c);
+        // A unit ray u passes through the interior when c.u > 0 and |c x u| < rho, with room for the
+        // rounding of c x u (a few ulps of l); it enters at (l^2 - rho^2) / (c.u + sqrt(rho^2 - (c x u)^2)).
+        const double crLimit = rho * (1 - kRelMargin) - 8 * kEps * l;
+        const double num = (l - rho) * (l + rho), scale = 1 + kRelMargin, absPad = kRelMargin * l;
+        drawRuns(x - beta - 1e-9, x + beta + 1e-9, [&](double ux, double uy) {
+            const double cd = c.x * ux + c.y * uy, cr = c.x * uy - c.y * ux;
+            if (!(cd > 0) || !(std::abs(cr) < crLimit)) return -1.0;
+            const double t = num / (cd + std::sqrt((rho - std::abs(cr)) * (rho + std::abs(cr))));
+            return t * scale + absPad;
+        });
+        return;
+    }
+    m_planes.clear();
+    const Vec2 lo = bounds.min - m_apex, hi = bounds.max - m_apex; // the (polygon's bounding) box, unshrunk
+    if (!(lo.x + s < hi.x - s) || !(lo.y + s < hi.y - s)) return;  // shrunk to nothing
+    const double scale = std::max(absMax(lo), absMax(hi));
+    // The bounding box shrunk by s: the whole shape for a box, a bound that keeps a polygon's rounded edge
+    // lines from reaching past it (two nearly parallel edges of a sliver meet far from where their rounded
+    // normals say).
+    m_planes.push_back({1, 0, hi.x - s});
+    m_planes.push_back({-1, 0, -lo.x - s});
+    m_planes.push_back({0, 1, hi.y - s});
+    m_planes.push_back({0, -1, -lo.y - s});
+    double x0, x1;
+    if (const auto* poly = std::get_if<ConvexPolygon>(&shape)) {
+        const std::vector<Vec2>& pts = poly->points;
+        const std::size_t n = pts.size();
+        if (n < 3) return;
+        double area2 = 0;
+        for (std::size_t k = 0; k < n; ++k) area2 += cross2(pts[k] - m_apex, pts[(k + 1) % n] - m_apex);
+        if (!(area2 != 0)) return;
+        const double orient = area2 > 0 ? 1.0 : -1.0;
+        bool rawHoldsApex = true;
+        for (std::size_t k = 0; k < n; ++k) {
+            const Vec2 a = pts[k] - m_apex, e = pts[(k + 1) % n] - pts[k];
+            const double len = std::sqrt(lengthSquared<2>(e));
+            if (!(len > 0)) continue;
+            // Counter-clockwise, the interior is left of each edge: the outward normal is (e.y, -e.x) / |e|.
+            const double nx = orient * e.y / len, ny = -orient * e.x / len, h = nx * a.x + ny * a.y;
+            rawHoldsApex = rawHoldsApex && h >= 0;
+            m_planes.push_back({nx, ny, h - s});
+        }
+        if (rawHoldsApex) { // the shrunk polygon may still miss the apex; its extent is then unknown here
+            x0 = 0;
+            x1 = m_span;
+        } else {
+            Vec2 r{0.0};
+            for (const Vec2& p : pts) r += p - m_apex;
+            r /= double(n);
+            double dMin = 0, dMax = 0;
+            for (const Vec2& p : pts) {
+                const double d = angleFrom(r, p - m_apex);
+                dMin = std::min(dMin, d);
+                dMax = std::max(dMax, d);
+            }
+            const double x = binCoord(r);
+            x0 = x + dMin - 1e-9;
+            x1 = x + dMax + 1e-9;
+        }
+    } else {
+        boxExtent(lo + s, hi - s, x0, x1);
+    }
+    // Holding or touching the camera (the apex in the closed half-plane intersection): skipped; no ray would
+    // pass the tEnter > 0 test anyway. An apex outside it by any margin is fine: the computed region lies in
+    // the true shrunk shape (pad), and the entries are computed with their own margins, so a shape whose
+    // unshrunk boundary passes through the camera (a camera on a wall's face) still blocks the rays into it.
+    bool holdsApex = true;
+    for (const HalfPlane& p : m_planes) holdsApex = holdsApex && p.h >= 0;
+    if (holdsApex) return;
+    drawRuns(x0, x1, [&](double ux, double uy) { return planeEntry(ux, uy, scale); });
+}
+
+} // namespace rgvc
