@@ -246,6 +246,31 @@ TEST_CASE("buffer2d: the full circle and the +-pi seam", "[buffer2d]") {
     }
 }
 
+TEST_CASE("buffer2d: a box beside a boundary ray that runs along an axis does not cover that ray's bins", "[buffer2d]") {
+    // Found through the culler (test_culler2d, mixed seed 109): with a 360-degree view along +y and 256
+    // bins, boundary ray 64 runs along +x, 6e-17 off the axis. For a box just below the axis, that ray's
+    // slab test gave an exit distance of -1.6e16 from the edge line it lies outside of, and the margin,
+    // scaled by that negative distance, let it "enter" the box: bin 63 was covered, and a box behind,
+    // whose top face is visible over the first one, was hidden.
+    const GridGeometry2 grid({-88, 25}, 1.0, {79, 79});
+    const ViewWedge view(makeCamera({-60, 39}, {0, 0.3344053551304632}, 360), grid);
+    OcclusionBuffer2D buffer;
+    REQUIRE(buffer.begin(view, 256));
+    const Vec2 o = -grid.origin();
+    const Shape<2> front = Box<2>{Vec2{-13.625193486426099, 37.17517257814355} + o, Vec2{-11.425382500777062, 38.03351010864146} + o};
+    const Shape<2> beside = Box<2>{Vec2{-13.625193486426099, 38.03351010864146} + o, Vec2{-11.425382500777062, 38.89184763913937} + o};
+    const Shape<2> behind = Box<2>{Vec2{-11.425382500777062, 38.03351010864146} + o, Vec2{-9.225571515128038, 38.89184763913937} + o};
+    for (int k = 0; k < buffer.bins(); ++k) REQUIRE(!(buffer.depthAt(k) < 1e300));
+    buffer.draw(front, 1e-9);
+    buffer.draw(beside, 1e-9);
+    const Vec2 ray = buffer.boundaryRay(64);
+    CHECK(std::abs(ray.y) < 1e-15); // the ray along +x, as in the finding
+    CHECK_FALSE(buffer.depthAt(63) < 1e300);
+    CHECK_FALSE(buffer.hidden(behind, 1e-9));
+    const Camera2 cam = makeCamera({-60, 39}, {0, 0.3344053551304632}, 360);
+    REQUIRE(ref::exactVisible2D({front, beside, behind}, cam)[2]);
+}
+
 TEST_CASE("buffer2d: an occludee poking out of an occluder's silhouette is never hidden", "[buffer2d]") {
     // Occluder S (circle, box or polygon) in front; a circle far behind it whose angular extent pokes out of
     // S's by `poke` radians (0, 1e-13 .. 1e-2) on one side, in random directions, at many bin counts. The

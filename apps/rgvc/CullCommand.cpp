@@ -20,6 +20,7 @@
 #include "SceneFile.hpp"
 #include "SceneMotion.hpp"
 #include "rgvc/dynamics/Culler.hpp"
+#include "rgvc/grid/OcclusionBuffer2D.hpp"
 #include "rgvc/grid/OcclusionBuffer3D.hpp"
 
 #include <nlohmann/json.hpp>
@@ -44,8 +45,8 @@ using Clock = std::chrono::steady_clock;
 
 const char* const kCullUsage =
     "usage: rgvc cull SCENE.json [--frames N] [--dump-objects] [--no-occlusion] [--no-extension]\n"
-    "                 [--no-tbv] [--filled-tbv] [--caps-every-frame] [--buffer-rows R] [--shells]\n"
-    "                 [--image-rows R]\n"
+    "                 [--no-tbv] [--filled-tbv] [--caps-every-frame] [--buffer-rows R] [--buffer-bins B]\n"
+    "                 [--shells] [--image-rows R]\n"
     "\n"
     "Runs N frames of a scene file (the format is described in the project README) and prints one\n"
     "JSON object per frame on stdout:\n"
@@ -63,6 +64,8 @@ const char* const kCullUsage =
     "  --caps-every-frame  3D: grid caps on every frame (default: skipped while they do not pay)\n"
     "  --buffer-rows R  3D: rows of the occlusion buffer that refines the grid's PVS, 0..2048\n"
     "                   (default 64; 0 turns it off)\n"
+    "  --buffer-bins B  2D: angular bins of the occlusion buffer that refines the grid's PVS, 0..4096\n"
+    "                   (default 256; 0 turns it off)\n"
     "  --shells         3D: the paper's per-voxel shell traversal with cap polygons instead of the\n"
     "                   brick tree with its occlusion image (the default; README \"How it works\")\n"
     "  --image-rows R   3D brick tree: rows of its occlusion image, 1..2048 (default 128)\n"
@@ -139,6 +142,9 @@ CullArgs parseArgs(int argc, char** argv) {
                 if (i + 1 >= argc) throw UsageError("--buffer-rows: missing value");
                 const auto rows = parseInteger("--buffer-rows", argv[++i], 0, OcclusionBuffer3D::kMaxExtent);
                 a.options.occlusionBufferRows = int(rows);
+            } else if (arg == "--buffer-bins") {
+                if (i + 1 >= argc) throw UsageError("--buffer-bins: missing value");
+                a.options.occlusionBufferBins = int(parseInteger("--buffer-bins", argv[++i], 0, OcclusionBuffer2D::kMaxBins));
             } else if (arg == "--shells") {
                 a.options.hierarchical = false;
             } else if (arg == "--image-rows") {

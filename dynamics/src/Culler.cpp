@@ -7,6 +7,7 @@
 #include "rgvc/grid/ConservativeRaster.hpp"
 #include "rgvc/grid/FrustumTraversal2D.hpp"
 #include "rgvc/grid/FrustumTraversal3D.hpp"
+#include "rgvc/grid/OcclusionBuffer2D.hpp"
 #include "rgvc/grid/OcclusionBuffer3D.hpp"
 #include "rgvc/grid/RowFootprint.hpp"
 #include "rgvc/grid/ViewFrustum.hpp"
@@ -39,6 +40,8 @@ template <int D> struct CullerTraits;
 
 template <> struct CullerTraits<2> {
     using View = ViewWedge;
+    using Buffer = OcclusionBuffer2D;
+    static int bufferSize(const CullerOptions& o) { return o.occlusionBufferBins; }
     using Traversal = FrustumTraversal2D<DenseStorage<2>>;
     static void checkGrid(const GridGeometry2& grid) {
         for (int a = 0; a < 2; ++a)
@@ -70,6 +73,8 @@ template <> struct CullerTraits<2> {
 
 template <> struct CullerTraits<3> {
     using View = ViewFrustum;
+    using Buffer = OcclusionBuffer3D;
+    static int bufferSize(const CullerOptions& o) { return o.occlusionBufferRows; }
     using Traversal = FrustumTraversal3D<DenseStorage<3>>;
     static void checkGrid(const GridGeometry3&) {}
     template <class OnVoxel>
@@ -180,7 +185,7 @@ template <int D> struct Culler<D>::Impl {
     };
     std::vector<std::pair<double, std::uint32_t>> bufferOrder; // (nearest distance, index in bufferShapes)
     std::vector<BufferShape> bufferShapes;
-    OcclusionBuffer3D occlusionBuffer;
+    typename Traits::Buffer occlusionBuffer;
     // CullerOptions::hierarchical (3D): the brick-tree walk, its occlusion image, and per slot the frame
     // stamp in which the object was classified (tested against the view and the image) by it.
     BrickTraversal3D<DenseStorage<3>> brickTraversal;
@@ -691,9 +696,9 @@ template <int D> struct Culler<D>::Impl {
     /// it stays. Shapes are grown (tests) or shrunk (drawing) by their conversion slack and the camera's.
     /// Parked objects have no current placement: they stay and occlude nothing. Only result.pvs changes.
     template <class View> void refineWithBuffer(const View& view, CullStats& st) {
-        if constexpr (D == 3) {
+        {
             const auto t0 = std::chrono::steady_clock::now();
-            if (!occlusionBuffer.begin(view, options.occlusionBufferRows)) return;
+            if (!occlusionBuffer.begin(view, Traits::bufferSize(options))) return;
             // One pass over the records (large, scattered: each read is a cache miss) copies what the buffer
             // needs; the sort then moves 16-byte keys, and the test-and-draw pass reads the copies in order.
             bufferOrder.clear();
@@ -815,7 +820,7 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
     st.parkedObjects = std::uint32_t(parked.size());
     st.gridWrites = writes;
     st.tbvMatrixAllocated = tbvs.allocated();
-    if (options.occlusion && options.occlusionBufferRows > 0 && pvsSlots.size() > 1) refineWithBuffer(view, st);
+    if (options.occlusion && Traits::bufferSize(options) > 0 && pvsSlots.size() > 1) refineWithBuffer(view, st);
     std::sort(result.pvs.begin(), result.pvs.end());
     st.pvsSize = std::uint32_t(result.pvs.size());
     st.cullMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -833,6 +838,9 @@ template <int D> Culler<D>::Culler(const GridGeometry<D>& grid, const CullerOpti
     if (options.occlusionBufferRows < 0 || options.occlusionBufferRows > OcclusionBuffer3D::kMaxExtent)
         throw InvalidInput("options.occlusionBufferRows", "must be in [0, " + std::to_string(OcclusionBuffer3D::kMaxExtent) +
                                                                "], got " + std::to_string(options.occlusionBufferRows));
+    if (options.occlusionBufferBins < 0 || options.occlusionBufferBins > OcclusionBuffer2D::kMaxBins)
+        throw InvalidInput("options.occlusionBufferBins", "must be in [0, " + std::to_string(OcclusionBuffer2D::kMaxBins) +
+                                                               "], got " + std::to_string(options.occlusionBufferBins));
     if (options.traversalImageRows < 1 || options.traversalImageRows > OcclusionBuffer3D::kMaxExtent)
         throw InvalidInput("options.traversalImageRows", "must be in [1, " + std::to_string(OcclusionBuffer3D::kMaxExtent) +
                                                               "], got " + std::to_string(options.traversalImageRows));

@@ -257,7 +257,12 @@ double OcclusionBuffer2D::planeEntry(double ux, double uy, double scale) const {
     // h / a carries a relative error of a few ulps / |a| (a is rounded absolutely): near-parallel binding
     // edges get a margin of that size on top of kRelMargin.
     const double mEnter = kRelMargin + 8 * kEps / aEnter, mExit = 8 * kEps / aExit;
-    if (!(tEnter > 0) || !(tExit - tEnter > (mEnter + mExit) * tExit + kRelMargin * scale * 1e-3)) return -1.0;
+    // tExit > tEnter first: the margin scales with tExit, and a negative tExit (a ray nearly parallel to an
+    // edge it lies outside of: h / a with a ~ 1e-17) would turn the margin's sign and pass the test
+    // (found by test_culler2d through the culler: the ray of a 360-degree buffer along +x, 6e-17 off the
+    // axis, "entered" a box lying just below that axis, and a visible box behind it was hidden).
+    if (!(tEnter > 0) || !(tExit > tEnter) || !(tExit - tEnter > (mEnter + mExit) * tExit + kRelMargin * scale * 1e-3))
+        return -1.0;
     return tEnter * (1 + mEnter) + kRelMargin * scale;
 }
 

@@ -116,7 +116,7 @@ struct CullStats {
     std::uint32_t objectsOutsideGrid = 0; ///< objects partly outside the grid, tested against the view region
     bool capsDeferred = false;            ///< 3D adaptiveCaps: this frame started without caps
     std::uint32_t capsFromShell = 0;      ///< of such a frame: the shell where a wall switched them on (0: none)
-    std::uint32_t bufferTested = 0;       ///< 3D: grid-PVS objects tested against the occlusion buffer
+    std::uint32_t bufferTested = 0;       ///< grid-PVS objects tested against the occlusion buffer (3D rows, 2D bins)
     std::uint32_t bufferHidden = 0;       ///< of those, hidden by it and left out of the PVS
     double bufferMs = 0;                  ///< of cullMs: the occlusion buffer's time
     // 3D hierarchical traversal (CullerOptions::hierarchical): the brick tree's work.
@@ -186,6 +186,10 @@ struct CullerOptions {
     /// and I (cheap to reveal) instead of flipping between tracked and hidden. Ignored in 2D and when
     /// `occlusion` is false.
     int occlusionBufferRows = 64;
+    /// 2D only: [Bins] [Limit] 0..4096. Angular bins of the 2D occlusion buffer (OcclusionBuffer2D.hpp)
+    /// that refines the grid's PVS as the 3D buffer does: objects smaller than a voxel, which leave O
+    /// empty, still hide what is behind them. 0 turns the stage off. Ignored when `occlusion` is false.
+    int occlusionBufferBins = 256;
     /// 3D only: skip the grid's caps on frames where they have not been paying. After a frame whose caps
     /// hid under a tenth of the visited voxels without ending the traversal early, the next 1, then 2, 4
     /// and at most 8 frames start without caps (a view-frustum traversal that still reads O) and switch
