@@ -5,6 +5,7 @@
 // field, with what() = "<field>: <problem>" (SceneError: "<file>: <field>: <problem>", one line). And a
 // rejected call must leave its culler exactly as it was (Error.hpp's strong guarantee): the PVS and the
 // stats of several cameras, and the state of every voxel, are compared before and after.
+#include "CullerTestSupport.hpp"
 #include "SceneFile.hpp"
 
 #include "rgvc/dynamics/Culler.hpp"
@@ -28,6 +29,7 @@
 #include <vector>
 
 using namespace rgvc;
+using rgvc::culler_test::makeCamera;
 
 namespace {
 
@@ -51,15 +53,6 @@ std::string fieldOf(const std::function<void()>& f) {
     return "<accepted>";
 }
 
-Camera2 camera(Vec2 pos, Vec2 dir, double fov, double far = kInf) {
-    Camera2 c;
-    c.position = pos;
-    c.direction = dir;
-    c.fovDeg = fov;
-    c.far = far;
-    return c;
-}
-
 /// Everything observable about a culler: PVS and stats (less the wall time) of a few cameras, and the
 /// state of every voxel (and a margin around the grid) after each.
 struct Snapshot {
@@ -72,8 +65,8 @@ struct Snapshot {
 
 const std::vector<Camera2>& probeCameras() {
     static const std::vector<Camera2> cams = {
-        camera({2, 16}, {1, 0}, 90),  camera({16, 16}, {0, 1}, 360), camera({31, 1}, {-1, 1}, 60, 20),
-        camera({-5, 16}, {1, 0}, 90), // outside the grid: the fallback path
+        makeCamera({2, 16}, {1, 0}, 90),  makeCamera({16, 16}, {0, 1}, 360), makeCamera({31, 1}, {-1, 1}, 60, 20),
+        makeCamera({-5, 16}, {1, 0}, 90), // outside the grid: the fallback path
     };
     return cams;
 }
@@ -174,7 +167,7 @@ struct BadCamera {
     std::string field;
 };
 std::vector<BadCamera> badCameras() {
-    const Camera2 good = camera({2, 16}, {1, 0}, 90);
+    const Camera2 good = makeCamera({2, 16}, {1, 0}, 90);
     std::vector<BadCamera> v;
     auto with = [&](auto mutate, const char* field) {
         Camera2 c = good;
@@ -242,14 +235,14 @@ TEST_CASE("Culler2D's constructor rejects grids over 2^20 voxels per axis", "[er
     wide.addObject({2, Ball<2>{{20.5, 1}, 0.5}, true, 0});
     wide.addObject({3, Ball<2>{{5.5, 1}, 0.5}, true, 0});
     wide.addObject({4, Ball<2>{{limit - 0.5, 1}, 0.5}, true, 0});
-    const std::vector<ObjectId> wpvs = wide.cull(camera({5, 1}, {1, 0}, 90, 100)).pvs;
+    const std::vector<ObjectId> wpvs = wide.cull(makeCamera({5, 1}, {1, 0}, 90, 100)).pvs;
     CHECK(std::binary_search(wpvs.begin(), wpvs.end(), ObjectId(1)));
     CHECK(std::binary_search(wpvs.begin(), wpvs.end(), ObjectId(3)));
     CHECK_FALSE(std::binary_search(wpvs.begin(), wpvs.end(), ObjectId(4))); // beyond far
     Culler2D tall(GridGeometry2({0, 0}, 1, {1, limit}));
     tall.addObject({1, Box<2>{{0, 1000}, {1, 1001}}, true, 0});
     tall.addObject({2, Ball<2>{{0.5, 3.5}, 0.5}, true, 0});
-    const std::vector<ObjectId> tpvs = tall.cull(camera({0.5, 0.5}, {0, 1}, 10, 2000)).pvs;
+    const std::vector<ObjectId> tpvs = tall.cull(makeCamera({0.5, 0.5}, {0, 1}, 10, 2000)).pvs;
     // The ball fills the 10-degree view (it spans 19 degrees at distance 3): the occlusion buffer hides
     // the box behind it.
     CHECK(tpvs == std::vector<ObjectId>{2});
@@ -276,7 +269,7 @@ TEST_CASE("Culler options: TBV limits are checked with their field", "[errors][t
     // An empty placement query is a bad argument, refused before the frame starts.
     Culler2D culler(g);
     culler.addObject({1, Ball<2>{{8, 8}, 1}, false, 0.5});
-    CHECK(fieldOf([&] { culler.cull(camera({1.5, 1.5}, {1, 1}, 90, INFINITY), PlacementQuery<2>{}); }) == "placementOf");
+    CHECK(fieldOf([&] { culler.cull(makeCamera({1.5, 1.5}, {1, 1}, 90, INFINITY), PlacementQuery<2>{}); }) == "placementOf");
 }
 
 TEST_CASE("validateShape and validateCamera name the field under the caller's prefix", "[errors]") {
@@ -313,14 +306,14 @@ TEST_CASE("validateShape and validateCamera name the field under the caller's pr
     badUp.up = {0, kNaN, 0};
     CHECK(fieldOf([&] { validateCamera<3>(badUp); }) == "camera.up");
     // Valid edge values are accepted.
-    CHECK_NOTHROW(validateCamera<2>(camera({0, 0}, {1, 0}, 360)));
-    CHECK_NOTHROW(validateCamera<2>(camera({0, 0}, {1, 0}, 1e-9)));
-    CHECK_NOTHROW(validateCamera<2>(camera({0, 0}, {1, 0}, 90, 1e-300)));
-    CHECK_NOTHROW(validateCamera<2>(camera({1e300, -1e300}, {-1e-3, 1e3}, 90)));
+    CHECK_NOTHROW(validateCamera<2>(makeCamera({0, 0}, {1, 0}, 360)));
+    CHECK_NOTHROW(validateCamera<2>(makeCamera({0, 0}, {1, 0}, 1e-9)));
+    CHECK_NOTHROW(validateCamera<2>(makeCamera({0, 0}, {1, 0}, 90, 1e-300)));
+    CHECK_NOTHROW(validateCamera<2>(makeCamera({1e300, -1e300}, {-1e-3, 1e3}, 90)));
     // Any non-zero length, including lengths whose square over- or underflows.
-    CHECK_NOTHROW(validateCamera<2>(camera({0, 0}, {1e300, 1e300}, 90)));
-    CHECK_NOTHROW(validateCamera<2>(camera({0, 0}, {1e-200, 0}, 90)));
-    CHECK_NOTHROW(validateCamera<2>(camera({0, 0}, {0, -std::numeric_limits<double>::denorm_min()}, 90)));
+    CHECK_NOTHROW(validateCamera<2>(makeCamera({0, 0}, {1e300, 1e300}, 90)));
+    CHECK_NOTHROW(validateCamera<2>(makeCamera({0, 0}, {1e-200, 0}, 90)));
+    CHECK_NOTHROW(validateCamera<2>(makeCamera({0, 0}, {0, -std::numeric_limits<double>::denorm_min()}, 90)));
     // A polygon that runs along a line and back (behind a repeated point) is refused, not treated as
     // its hull (found by fuzz_culler2d: the culler and the reference disagreed on its interior).
     Shape<2> doubled = ConvexPolygon{{{1.5, 1.5}, {1.5, 1.5}, {-2.5, 1.5}, {1.5, 1.5}, {5, 1.5}, {21.25, 45.25}}};
@@ -413,16 +406,16 @@ TEST_CASE("Culler2D accepts extreme but valid input and keeps the PVS well forme
         CHECK_NOTHROW(culler.addObject(o));
     }
     const std::vector<Camera2> cams = {
-        camera({16, 16}, {1, 0}, 360),
-        camera({16, 16}, {1e-3, -1e3}, 1e-9),
-        camera({1e300, 1e300}, {-1, -1}, 90),
-        camera({-1e300, 16}, {1, 0}, 359.999999),
-        camera({16, 16}, {1e150, 1e150}, 180, 1e-300),
-        camera({16, 16}, {1e300, -1e300}, 90),
-        camera({16, 16}, {std::numeric_limits<double>::denorm_min(), 0}, 45),
-        camera({16, 16}, {-1e-150, 1e-150}, 90),
-        camera({16, 16}, {-1, 0}, 180, 1e300),
-        camera({std::numeric_limits<double>::max(), 0}, {-1, 0}, 360),
+        makeCamera({16, 16}, {1, 0}, 360),
+        makeCamera({16, 16}, {1e-3, -1e3}, 1e-9),
+        makeCamera({1e300, 1e300}, {-1, -1}, 90),
+        makeCamera({-1e300, 16}, {1, 0}, 359.999999),
+        makeCamera({16, 16}, {1e150, 1e150}, 180, 1e-300),
+        makeCamera({16, 16}, {1e300, -1e300}, 90),
+        makeCamera({16, 16}, {std::numeric_limits<double>::denorm_min(), 0}, 45),
+        makeCamera({16, 16}, {-1e-150, 1e-150}, 90),
+        makeCamera({16, 16}, {-1, 0}, 180, 1e300),
+        makeCamera({std::numeric_limits<double>::max(), 0}, {-1, 0}, 360),
     };
     for (const Camera2& cam : cams) {
         INFO("camera (" << cam.position.x << ", " << cam.position.y << ") dir (" << cam.direction.x << ", "

@@ -12,8 +12,7 @@
 // - Hidden movers stay hidden: behind closed walls no TBV is ever revealed.
 // - Budgets: an empty grid visits one node; the pyramid is exact after a traversal clears it.
 // Seeds are printed on failure (INFO).
-#include "ExactVisibility3D.hpp"
-#include "SeededRandom.hpp"
+#include "CullerTestSupport.hpp"
 
 #include "rgvc/dynamics/Culler.hpp"
 #include "rgvc/grid/BrickPyramid.hpp"
@@ -31,12 +30,10 @@
 using namespace rgvc;
 namespace ref = rgvc::reference;
 namespace rs = rgvc::reference::seeded;
+using rgvc::culler_test::contains;
+using rgvc::culler_test::kPi;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-bool contains(const std::vector<ObjectId>& v, ObjectId id) { return std::binary_search(v.begin(), v.end(), id); }
 
 Camera3 lookAt(const Vec3& pos, double yawDeg, double pitchDeg, double fov, double aspect) {
     const double y = yawDeg * kPi / 180, p = pitchDeg * kPi / 180;

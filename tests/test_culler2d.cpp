@@ -5,8 +5,7 @@
 // Every failure prints the seed, the camera's index for that seed, the scene as a scene-format JSON file
 // (replayable with `rgvc cull`), the missed ids, the point where the reference saw each one and the
 // culler's state of the voxel holding that point.
-#include "ExactVisibility2D.hpp"
-#include "RandomScenes2D.hpp"
+#include "CullerTestSupport.hpp"
 
 #include "rgvc/dynamics/Culler.hpp"
 #include "rgvc/grid/OcclusionShadow2D.hpp"
@@ -14,164 +13,38 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <chrono>
-#include <cctype>
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <functional>
+#include <cstdint>
 #include <iostream>
 #include <limits>
 #include <numeric>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 using namespace rgvc;
+using namespace rgvc::culler_test;
 namespace ref = rgvc::reference;
 
 namespace {
 
-// Figures of one test case, printed at its end.
-struct Tally {
-    std::size_t frames = 0, framesWithVisible = 0, misses = 0, failedFrames = 0, outsideFallbacks = 0;
-    double sumPvsRatio = 0, sumVfcRatio = 0;
-    // The same over frames with the camera in the grid (no fallback): the grid algorithm's own figure,
-    // not diluted by the camera-outside fallback, which reports the whole view-region set.
-    std::size_t framesInGrid = 0;
-    double sumPvsRatioInGrid = 0, sumVfcRatioInGrid = 0;
-    std::size_t sumPvs = 0, sumVisible = 0, sumVfc = 0;
-    double cullMs = 0, referenceMs = 0;
-
-    void print(const std::string& name) const {
-        std::ostringstream os;
-        os.precision(4);
-        os << "[culler2d] " << name << ": " << frames << " scene/camera pairs, " << misses << " misses; "
-           << "mean |PVS|/|visible| = " << (framesWithVisible ? sumPvsRatio / framesWithVisible : 0.0)
-           << ", mean |VFC|/|visible| = " << (framesWithVisible ? sumVfcRatio / framesWithVisible : 0.0)
-           << " (over " << framesWithVisible << " frames with something visible; pooled "
-           << (sumVisible ? double(sumPvs) / double(sumVisible) : 0.0) << " and "
-           << (sumVisible ? double(sumVfc) / double(sumVisible) : 0.0) << "); cameras in the grid only: "
-           << (framesInGrid ? sumPvsRatioInGrid / framesInGrid : 0.0) << " and "
-           << (framesInGrid ? sumVfcRatioInGrid / framesInGrid : 0.0) << " over " << framesInGrid
-           << " frames; camera-outside fallbacks " << outsideFallbacks << "; cull " << cullMs << " ms, reference " << referenceMs << " ms in all\n";
-        std::cout << os.str() << std::flush;
-    }
-};
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-bool contains(const std::vector<ObjectId>& sorted, ObjectId id) { return std::binary_search(sorted.begin(), sorted.end(), id); }
-
-std::string describeVoxel(const Culler2D& culler, const Vec2& world) {
-    IVec2 v = culler.grid().voxelOf(world);
-    VoxelState s = culler.voxelState(v);
-    std::ostringstream os;
-    os << "voxel (" << v.x << ", " << v.y << ")";
-    if (!s.inGrid) return os.str() + " outside the grid";
-    os << " opaque=" << s.opaque << " occluded=" << s.occluded << " visited=" << s.visited
-       << " occluder=" << s.occluder << " hasIds=" << s.hasIds;
-    return os.str();
-}
-
-// Writes a failing scene to the temp directory; returns its path, or "" when it cannot.
-std::string saveScene(const std::string& json, const std::string& origin) {
-    std::string name = "rgvc-culler2d-";
-    for (char ch : origin) {
-        const char c = std::isalnum(static_cast<unsigned char>(ch)) ? ch : '-';
-        if (c != '-' || name.back() != '-') name += c;
-    }
-    std::error_code ec;
-    std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
-    if (ec) return "";
-    std::filesystem::path p = dir / (name + ".json");
-    std::ofstream f(p);
-    f << json;
-    return f ? p.string() : "";
-}
-
-// Culls `cam` on a culler holding exactly `objects` and compares with the reference. Adds to the tally;
-// reports (INFO + FAIL_CHECK) the first few failing frames of a case in full.
-void checkFrame(Culler2D& culler, const std::vector<ObjectDesc<2>>& objects, const Camera2& cam,
-                const std::string& origin, Tally& tally) {
-    const std::vector<Shape<2>> shapes = ref::shapesOf(objects);
-    auto t0 = std::chrono::steady_clock::now();
-    ref::ExactStats stats;
-    const std::vector<bool> visible = ref::exactVisible2D(shapes, cam, {}, &stats);
-    const std::vector<bool> inView = ref::inViewRegion2D(shapes, cam);
-    tally.referenceMs += msSince(t0);
-
-    t0 = std::chrono::steady_clock::now();
-    const CullResult& result = culler.cull(cam);
-    tally.cullMs += msSince(t0);
-    const std::vector<ObjectId>& pvs = result.pvs;
-
-    std::size_t nVisible = 0, nVfc = 0;
-    std::vector<std::size_t> missed;
-    for (std::size_t i = 0; i < objects.size(); ++i) {
-        nVisible += visible[i];
-        nVfc += inView[i];
-        if (visible[i] && !contains(pvs, objects[i].id)) missed.push_back(i);
-    }
-    ++tally.frames;
-    tally.outsideFallbacks += result.stats.fallback == Fallback::CameraOutsideGrid;
-    if (nVisible > 0) {
-        ++tally.framesWithVisible;
-        tally.sumPvsRatio += double(pvs.size()) / double(nVisible);
-        tally.sumVfcRatio += double(nVfc) / double(nVisible);
-        tally.sumPvs += pvs.size();
-        tally.sumVisible += nVisible;
-        tally.sumVfc += nVfc;
-        if (result.stats.fallback == Fallback::None) {
-            ++tally.framesInGrid;
-            tally.sumPvsRatioInGrid += double(pvs.size()) / double(nVisible);
-            tally.sumVfcRatioInGrid += double(nVfc) / double(nVisible);
-        }
-    }
-    const bool sortedUnique = std::adjacent_find(pvs.begin(), pvs.end(), std::greater_equal<ObjectId>()) == pvs.end();
-    if (missed.empty() && sortedUnique) return;
-
-    tally.misses += missed.size();
-    if (++tally.failedFrames > 3) return; // the count says the rest; three full reports are plenty
-    std::ostringstream os;
-    os << origin << ": " << missed.size() << " visible object(s) missing from the PVS (" << pvs.size()
-       << " reported, " << nVisible << " visible, fallback " << toString(result.stats.fallback) << ")\n";
-    for (std::size_t i : missed) {
-        const Vec2 w = stats.witness[i];
-        const Vec2 wl = culler.grid().toLocal(w);
-        os.precision(17);
-        os << "  missed id " << objects[i].id << " (object index " << i << "), seen at world (" << w.x << ", " << w.y
-           << ") = voxel units (" << wl.x << ", " << wl.y << "), " << describeVoxel(culler, w) << "\n";
-    }
-    os << "camera voxel units (" << culler.grid().toLocal(cam.position).x << ", " << culler.grid().toLocal(cam.position).y << ")\n";
-    // Catch wraps long messages at 80 columns, which breaks numbers apart; the replayable file is written
-    // whole (and the JSON goes into the message only when the file cannot be written).
-    const std::string json = ref::toJson(culler.grid(), objects, cam);
-    const std::string path = saveScene(json, origin);
-    if (!path.empty()) os << "scene written to " << path << " (replay: rgvc cull " << path << ")";
-    else os << "scene:\n" << json;
-    INFO(os.str());
-    if (!sortedUnique) FAIL_CHECK("the PVS is not sorted ascending without duplicates");
-    if (!missed.empty()) FAIL_CHECK("culler missed a visible object");
-}
+// Every frame is checked against the exact reference; the view-region set is counted too (|VFC|).
+const CheckOptions kCheck{.suite = "culler2d"};
 
 // Runs `scenes` seeds from `firstSeed`, `camerasPerScene` cameras each (the scene's own, then more drawn
 // from the same seed), one culler per scene.
 Tally runRandomScenes(const std::string& name, std::uint64_t firstSeed, int scenes, int camerasPerScene,
                       const ref::SceneOptions& opt, const CullerOptions& cullerOptions = {}) {
-    Tally tally;
+    Tally tally(kCheck);
     for (std::uint64_t seed = firstSeed; seed < firstSeed + std::uint64_t(scenes); ++seed) {
         ref::Scene2D s = ref::randomScene2D(seed, opt);
-        Culler2D culler(s.grid, cullerOptions);
-        for (const ObjectDesc<2>& o : s.objects) culler.addObject(o);
+        Culler2D culler = makeCuller(s.grid, s.objects, cullerOptions);
         REQUIRE(culler.objectCount() == s.objects.size());
         std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ull);
         for (int c = 0; c < camerasPerScene; ++c) {
             Camera2 cam = c == 0 ? s.camera : ref::randomCamera2D(rng, s.grid, s.objects, s.snapped, opt);
-            checkFrame(culler, s.objects, cam, name + ", seed " + std::to_string(seed) + ", camera " + std::to_string(c), tally);
+            checkFrame(culler, s.objects, cam, frameLabel(name, seed, c), tally);
         }
     }
     tally.print(name);
@@ -180,29 +53,11 @@ Tally runRandomScenes(const std::string& name, std::uint64_t firstSeed, int scen
 
 // One hand-made scene on a 32 x 32 grid of unit voxels; ids are 1, 2, ... in order.
 Tally checkHandScene(const std::string& name, const std::vector<Shape<2>>& shapes, const Camera2& cam) {
-    GridGeometry2 grid({0, 0}, 1.0, {32, 32});
-    Culler2D culler(grid);
-    std::vector<ObjectDesc<2>> objects;
-    for (std::size_t i = 0; i < shapes.size(); ++i) {
-        ObjectDesc<2> o;
-        o.id = i + 1;
-        o.shape = shapes[i];
-        o.isStatic = true;
-        objects.push_back(o);
-        culler.addObject(o);
-    }
-    Tally tally;
+    const std::vector<ObjectDesc<2>> objects = staticObjects<2>(shapes);
+    Culler2D culler = makeCuller(GridGeometry2({0, 0}, 1.0, {32, 32}), objects);
+    Tally tally(kCheck);
     checkFrame(culler, objects, cam, name, tally);
     return tally;
-}
-
-Camera2 makeCamera(Vec2 pos, Vec2 dir, double fov, double far = std::numeric_limits<double>::infinity()) {
-    Camera2 c;
-    c.position = pos;
-    c.direction = dir;
-    c.fovDeg = fov;
-    c.far = far;
-    return c;
 }
 
 } // namespace
@@ -289,7 +144,7 @@ TEST_CASE("culler2d: no misses without occluder extension", "[culler]") {
 TEST_CASE("culler2d: updateObject and removeObject keep the PVS conservative", "[culler]") {
     // Objects move (some while hidden), change shape, disappear and appear over several frames; every
     // frame is checked against the reference on the current set of objects.
-    Tally tally;
+    Tally tally(kCheck);
     for (std::uint64_t seed = 500001; seed < 500151; ++seed) {
         ref::Scene2D s = ref::randomScene2D(seed);
         std::mt19937_64 rng(seed * 31 + 7);
@@ -612,7 +467,7 @@ TEST_CASE("culler2d: closed rooms hide everything outside from every camera insi
     //     longer outer side. (For a square room that is 4 times its interior plus its walls; the chess
     //     rings are squares, so an elongated room costs the square on its longer side.)
     const int scenes = 600, frames = 4;
-    Tally tally;
+    Tally tally(kCheck);
     std::size_t outsideReported = 0, notEarly = 0, overBudget = 0, failures = 0;
     std::uint64_t sumVisited = 0, sumRoomArea = 0;
     double worstRatio = 0; // voxels visited / (interior + wall voxels)
@@ -689,8 +544,7 @@ TEST_CASE("culler2d: closed rooms hide everything outside from every camera insi
             os << "; earlyTermination " << r.stats.earlyTermination << ", layers " << r.stats.layers << " (at most " << R + 1
                << "), voxels visited " << r.stats.voxelsVisited << " (at most " << std::min<std::int64_t>((2 * R + 1) * (2 * R + 1), 4 * side * side)
                << ")\n";
-            const std::string path = saveScene(ref::toJson(s.grid, s.objects, cam), origin);
-            if (!path.empty()) os << "scene written to " << path << " (replay: rgvc cull " << path << ")";
+            os << replayNote(kCheck.suite, ref::toJson(s.grid, s.objects, cam), origin);
             INFO(os.str());
             if (!reported.empty()) FAIL_CHECK("an object outside the closed room is in the PVS");
             if (!early) FAIL_CHECK("the traversal did not terminate early inside a closed room");
@@ -723,7 +577,7 @@ TEST_CASE("culler2d: an L corner's ray is in H when the arms lie on both sides o
     // some corner of C's voxel grazes K's corner, and such a q must stay out of H. Tiny targets at the q
     // and anywhere else check the PVS for misses as well. Only voxels the traversal visited are judged:
     // behind a layer that ended it early, H is not written (nor needed).
-    Tally tally;
+    Tally tally(kCheck);
     std::size_t onRay = 0, onRayNotInH = 0, unsound = 0, sameSideOnRay = 0, sameSideLit = 0;
     for (std::uint64_t seed = 800001; seed < 800601; ++seed) {
         using namespace ref::scene_detail;
@@ -778,8 +632,8 @@ TEST_CASE("culler2d: an L corner's ray is in H when the arms lie on both sides o
             if ((inH && lit) || (config != 2 && !inH)) {
                 INFO(origin << ": voxel (" << q.x << ", " << q.y << ") on the ray past K = (" << k.x << ", " << k.y
                             << ") from camera voxel (" << c.x << ", " << c.y << "): in H " << inH
-                            << ", seen from some point of the camera voxel " << lit << "; scene written to "
-                            << saveScene(ref::toJson(grid, objects, cam), origin));
+                            << ", seen from some point of the camera voxel " << lit << "; "
+                            << replayNote(kCheck.suite, ref::toJson(grid, objects, cam), origin));
                 if (inH) FAIL_CHECK("H holds a voxel seen from a point of the camera voxel");
                 else FAIL_CHECK("a corner ray with arms on both sides is not in H");
             }

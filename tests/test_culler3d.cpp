@@ -10,200 +10,40 @@
 // Reference density: visible3D at its defaults (gridDivisions 256, targetDivisions 16, critical rays on)
 // for every frame; the reference can only under-report (see ExactVisibility3D.hpp), so denser is
 // stricter. The whole file runs in well under a minute in Release on two cores.
-#include "ExactVisibility3D.hpp"
-#include "RandomScenes3D.hpp"
+#include "CullerTestSupport.hpp"
 
 #include "rgvc/dynamics/Culler.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <cctype>
-#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <functional>
 #include <iostream>
 #include <limits>
 #include <random>
-#include <sstream>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 using namespace rgvc;
+using namespace rgvc::culler_test;
 namespace ref = rgvc::reference;
 namespace sd = rgvc::reference::scene3d_detail;
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// The reference's sampling density for every frame of this file (see the header comment).
-ref::Visibility3DOptions referenceOptions() { return ref::Visibility3DOptions{}; }
-
-// Figures of one test case, printed at its end.
-struct Tally {
-    std::size_t frames = 0, framesWithVisible = 0, misses = 0, failedFrames = 0, outsideFallbacks = 0;
-    double sumPvsRatio = 0, sumVfcRatio = 0;
-    // The same over frames with the camera in the grid (no fallback): the grid algorithm's own figure,
-    // not diluted by the camera-outside fallback, which reports the whole view-region set.
-    std::size_t framesInGrid = 0;
-    double sumPvsRatioInGrid = 0, sumVfcRatioInGrid = 0;
-    std::size_t sumPvs = 0, sumVisible = 0, sumVfc = 0;
-    std::size_t earlyTerminations = 0, framesWithOcclusion = 0;
-    double cullMs = 0, referenceMs = 0;
-
-    void print(const std::string& name) const {
-        std::ostringstream os;
-        os.precision(4);
-        os << "[culler3d] " << name << ": " << frames << " scene/camera pairs, " << misses << " misses; "
-           << "mean |PVS|/|visible| = " << (framesWithVisible ? sumPvsRatio / framesWithVisible : 0.0)
-           << ", mean |VFC|/|visible| = " << (framesWithVisible ? sumVfcRatio / framesWithVisible : 0.0)
-           << " (over " << framesWithVisible << " frames with something visible; pooled "
-           << (sumVisible ? double(sumPvs) / double(sumVisible) : 0.0) << " and "
-           << (sumVisible ? double(sumVfc) / double(sumVisible) : 0.0) << "); cameras in the grid only: "
-           << (framesInGrid ? sumPvsRatioInGrid / framesInGrid : 0.0) << " and "
-           << (framesInGrid ? sumVfcRatioInGrid / framesInGrid : 0.0) << " over " << framesInGrid
-           << " frames; camera-outside fallbacks " << outsideFallbacks << ", frames with occlusion work "
-           << framesWithOcclusion << ", early terminations " << earlyTerminations << "; cull " << cullMs
-           << " ms, reference " << referenceMs << " ms in all\n";
-        std::cout << os.str() << std::flush;
-    }
-};
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-bool contains(const std::vector<ObjectId>& sorted, ObjectId id) { return std::binary_search(sorted.begin(), sorted.end(), id); }
-
-std::string describeVoxel(const Culler3D& culler, const Vec3& world) {
-    IVec3 v = culler.grid().voxelOf(world);
-    VoxelState s = culler.voxelState(v);
-    std::ostringstream os;
-    os << "voxel (" << v.x << ", " << v.y << ", " << v.z << ")";
-    if (!s.inGrid) return os.str() + " outside the grid";
-    os << " opaque=" << s.opaque << " occluded=" << s.occluded << " visited=" << s.visited
-       << " occluder=" << s.occluder << " hasIds=" << s.hasIds;
-    return os.str();
-}
-
-std::string describeCamera(const Culler3D& culler, const Camera3& cam) {
-    std::ostringstream os;
-    os.precision(17);
-    const Vec3 l = culler.grid().toLocal(cam.position);
-    os << "camera position (" << cam.position.x << ", " << cam.position.y << ", " << cam.position.z << ") = voxel units ("
-       << l.x << ", " << l.y << ", " << l.z << "), direction (" << cam.direction.x << ", " << cam.direction.y << ", "
-       << cam.direction.z << "), up (" << cam.up.x << ", " << cam.up.y << ", " << cam.up.z << "), fov " << cam.fovDeg
-       << ", aspect " << cam.aspect << ", far " << cam.far << "; camera " << describeVoxel(culler, cam.position);
-    return os.str();
-}
-
-// Writes a failing scene to the temp directory; returns its path, or "" when it cannot.
-std::string saveScene(const std::string& json, const std::string& origin) {
-    std::string name = "rgvc-culler3d-";
-    for (char ch : origin) {
-        const char c = std::isalnum(static_cast<unsigned char>(ch)) ? ch : '-';
-        if (c != '-' || name.back() != '-') name += c;
-    }
-    std::error_code ec;
-    std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
-    if (ec) return "";
-    std::filesystem::path p = dir / (name + ".json");
-    std::ofstream f(p);
-    f << json;
-    return f ? p.string() : "";
-}
-
-const char* seenName(ref::Seen3D s) {
-    switch (s) {
-    case ref::Seen3D::No: return "not seen";
-    case ref::Seen3D::ContainsCamera: return "contains the camera";
-    case ref::Seen3D::GridRay: return "grid ray";
-    case ref::Seen3D::TargetRay: return "target ray";
-    case ref::Seen3D::CriticalRay: return "critical ray";
-    }
-    return "?";
-}
-
-// Culls `cam` on a culler holding exactly `objects` and compares with the reference. Adds to the tally;
-// reports (INFO + FAIL_CHECK) the first few failing frames of a case in full.
-void checkFrame(Culler3D& culler, const std::vector<ObjectDesc<3>>& objects, const Camera3& cam,
-                const std::string& origin, Tally& tally) {
-    const std::vector<Shape<3>> shapes = ref::shapesOf(objects);
-    auto t0 = std::chrono::steady_clock::now();
-    ref::Visibility3DStats stats;
-    const std::vector<bool> visible = ref::visible3D(shapes, cam, referenceOptions(), &stats);
-    const std::vector<bool> inView = ref::inViewRegion3D(shapes, cam);
-    tally.referenceMs += msSince(t0);
-
-    t0 = std::chrono::steady_clock::now();
-    const CullResult& result = culler.cull(cam);
-    tally.cullMs += msSince(t0);
-    const std::vector<ObjectId>& pvs = result.pvs;
-
-    std::size_t nVisible = 0, nVfc = 0;
-    std::vector<std::size_t> missed;
-    for (std::size_t i = 0; i < objects.size(); ++i) {
-        nVisible += visible[i];
-        nVfc += inView[i];
-        if (visible[i] && !contains(pvs, objects[i].id)) missed.push_back(i);
-    }
-    ++tally.frames;
-    tally.outsideFallbacks += result.stats.fallback == Fallback::CameraOutsideGrid;
-    tally.earlyTerminations += result.stats.earlyTermination;
-    tally.framesWithOcclusion += !result.stats.occlusionSkipped;
-    if (nVisible > 0) {
-        ++tally.framesWithVisible;
-        tally.sumPvsRatio += double(pvs.size()) / double(nVisible);
-        tally.sumVfcRatio += double(nVfc) / double(nVisible);
-        tally.sumPvs += pvs.size();
-        tally.sumVisible += nVisible;
-        tally.sumVfc += nVfc;
-        if (result.stats.fallback == Fallback::None) {
-            ++tally.framesInGrid;
-            tally.sumPvsRatioInGrid += double(pvs.size()) / double(nVisible);
-            tally.sumVfcRatioInGrid += double(nVfc) / double(nVisible);
-        }
-    }
-    const bool sortedUnique = std::adjacent_find(pvs.begin(), pvs.end(), std::greater_equal<ObjectId>()) == pvs.end();
-    if (missed.empty() && sortedUnique) return;
-
-    tally.misses += missed.size();
-    if (++tally.failedFrames > 3) return; // the count says the rest; three full reports are plenty
-    std::ostringstream os;
-    os << origin << ": " << missed.size() << " visible object(s) missing from the PVS (" << pvs.size()
-       << " reported, " << nVisible << " visible, " << nVfc << " in the view region, fallback "
-       << toString(result.stats.fallback) << ", layers " << result.stats.layers << ", early termination "
-       << result.stats.earlyTermination << ")\n";
-    for (std::size_t i : missed) {
-        const Vec3 w = stats.witness[i];
-        const Vec3 wl = culler.grid().toLocal(w);
-        os.precision(17);
-        os << "  missed id " << objects[i].id << " (object index " << i << ", " << seenName(stats.seen[i])
-           << "), seen at world (" << w.x << ", " << w.y << ", " << w.z << ") = voxel units (" << wl.x << ", " << wl.y
-           << ", " << wl.z << "), " << describeVoxel(culler, w) << "\n";
-    }
-    os << describeCamera(culler, cam) << "\n";
-    // Catch wraps long messages at 80 columns, which breaks numbers apart; the replayable file is written
-    // whole (and the JSON goes into the message only when the file cannot be written).
-    const std::string json = ref::toJson(culler.grid(), objects, cam);
-    const std::string path = saveScene(json, origin);
-    if (!path.empty()) os << "scene written to " << path << " (replay: rgvc cull " << path << ")";
-    else os << "scene:\n" << json;
-    INFO(os.str());
-    if (!sortedUnique) FAIL_CHECK("the PVS is not sorted ascending without duplicates");
-    if (!missed.empty()) FAIL_CHECK("culler missed a visible object");
-}
+// Every frame is checked against the sampled reference at its defaults (see the header comment); the
+// view-region set is counted too (|VFC|).
+const CheckOptions kCheck{.suite = "culler3d"};
 
 // Runs `scenes` seeds from `firstSeed`, `camerasPerScene` cameras each (the scene's own, then more drawn
 // from the same seed), one culler per scene.
 Tally runRandomScenes(const std::string& name, std::uint64_t firstSeed, int scenes, int camerasPerScene,
                       const ref::SceneOptions3D& opt, const CullerOptions& cullerOptions = {}) {
-    Tally tally;
+    Tally tally(kCheck);
     // Both cores: the brick tree (the default) and, unless the caller chose one, the shells (§5.2-5.3).
     for (bool hierarchical : {true, false}) {
     if (!hierarchical && !cullerOptions.hierarchical) break;
@@ -211,16 +51,12 @@ Tally runRandomScenes(const std::string& name, std::uint64_t firstSeed, int scen
     core.hierarchical = cullerOptions.hierarchical && hierarchical;
     for (std::uint64_t seed = firstSeed; seed < firstSeed + std::uint64_t(scenes); ++seed) {
         ref::Scene3D s = ref::randomScene3D(seed, opt);
-        Culler3D culler(s.grid, core);
-        for (const ObjectDesc<3>& o : s.objects) culler.addObject(o);
+        Culler3D culler = makeCuller(s.grid, s.objects, core);
         REQUIRE(culler.objectCount() == s.objects.size());
         std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ull);
         for (int c = 0; c < camerasPerScene; ++c) {
             Camera3 cam = c == 0 ? s.camera : ref::randomCamera3D(rng, s.grid, s.objects, s.snapped, opt);
-            checkFrame(culler, s.objects, cam,
-                       name + (core.hierarchical ? "" : " (shells)") + ", seed " + std::to_string(seed) + ", camera " +
-                           std::to_string(c),
-                       tally);
+            checkFrame(culler, s.objects, cam, frameLabel(name + (core.hierarchical ? "" : " (shells)"), seed, c), tally);
         }
     }
     }
@@ -228,36 +64,12 @@ Tally runRandomScenes(const std::string& name, std::uint64_t firstSeed, int scen
     return tally;
 }
 
-Camera3 makeCamera(Vec3 pos, Vec3 dir, double fov, double far = kInf, double aspect = 1, Vec3 up = Vec3(0.0)) {
-    Camera3 c;
-    c.position = pos;
-    c.direction = dir;
-    c.fovDeg = fov;
-    c.far = far;
-    c.aspect = aspect;
-    c.up = up;
-    return c;
-}
-
-std::vector<ObjectDesc<3>> describe(const std::vector<Shape<3>>& shapes) {
-    std::vector<ObjectDesc<3>> objects;
-    for (std::size_t i = 0; i < shapes.size(); ++i) {
-        ObjectDesc<3> o;
-        o.id = i + 1;
-        o.shape = shapes[i];
-        o.isStatic = true;
-        objects.push_back(o);
-    }
-    return objects;
-}
-
 // One hand-made scene on `grid`; ids are 1, 2, ... in order.
 Tally checkHandScene(const std::string& name, const std::vector<Shape<3>>& shapes, const Camera3& cam,
                      const GridGeometry3& grid = GridGeometry3({0, 0, 0}, 1.0, {32, 32, 32})) {
-    Culler3D culler(grid);
-    const std::vector<ObjectDesc<3>> objects = describe(shapes);
-    for (const ObjectDesc<3>& o : objects) culler.addObject(o);
-    Tally tally;
+    const std::vector<ObjectDesc<3>> objects = staticObjects<3>(shapes);
+    Culler3D culler = makeCuller(grid, objects);
+    Tally tally(kCheck);
     checkFrame(culler, objects, cam, name, tally);
     return tally;
 }
@@ -284,7 +96,7 @@ TEST_CASE("culler3d: occluder fusion: a wall of small boxes sharing faces hides 
     const std::size_t wallCount = shapes.size();
     shapes.push_back(Ball<3>{{20, 16, 16}, 1.5}); // the hidden sphere
     shapes.push_back(Ball<3>{{8, 16, 16}, 0.5});  // in front of the wall: visible
-    const std::vector<ObjectDesc<3>> objects = describe(shapes);
+    const std::vector<ObjectDesc<3>> objects = staticObjects<3>(shapes);
     const ObjectId hiddenId = objects[wallCount].id, frontId = objects[wallCount + 1].id;
 
     const std::vector<Camera3> cams = {
@@ -295,14 +107,14 @@ TEST_CASE("culler3d: occluder fusion: a wall of small boxes sharing faces hides 
         makeCamera({4.5, 16, 16.5}, {1, 0, 0}, 60, kInf, 1, {0, 0, 1}), // on a voxel face, rolled
     };
     for (std::size_t c = 0; c < cams.size(); ++c) {
-        const std::vector<bool> vis = ref::visible3D(shapes, cams[c], referenceOptions());
+        const std::vector<bool> vis = ref::visible3D(shapes, cams[c]);
         INFO("camera " << c);
         REQUIRE_FALSE(vis[wallCount]); // the reference agrees the sphere is hidden (seam fusion)
         for (bool occlusion : {true, false})
             for (bool extension : {true, false}) {
                 Culler3D culler(grid, CullerOptions{occlusion, extension});
                 for (const ObjectDesc<3>& o : objects) culler.addObject(o);
-                Tally tally;
+                Tally tally(kCheck);
                 checkFrame(culler, objects, cams[c], "box wall, camera " + std::to_string(c), tally);
                 REQUIRE(tally.misses == 0);
                 const CullResult& r = culler.lastResult();
@@ -386,7 +198,7 @@ TEST_CASE("culler3d: occluder fusion: a wall of tightly packed spheres hides a s
     shapes.push_back(Box<3>{{25, 10, 10}, {27, 20, 20}}); // hidden box, far behind the wall
     shapes.push_back(Ball<3>{{5, 16, 16}, 0.5});          // in front: visible
     shapes.push_back(Ball<3>{{18, 16.5, 16}, 1});         // hidden, just behind the wall
-    const std::vector<ObjectDesc<3>> objects = describe(shapes);
+    const std::vector<ObjectDesc<3>> objects = staticObjects<3>(shapes);
 
     const std::vector<Camera3> cams = {
         makeCamera({3.5, 16.5, 16.5}, {1, 0, 0}, 60),
@@ -395,7 +207,7 @@ TEST_CASE("culler3d: occluder fusion: a wall of tightly packed spheres hides a s
         makeCamera({3, 16, 16.5}, {1, 0, 0}, 90),
     };
     for (std::size_t c = 0; c < cams.size(); ++c) {
-        const std::vector<bool> vis = ref::visible3D(shapes, cams[c], referenceOptions());
+        const std::vector<bool> vis = ref::visible3D(shapes, cams[c]);
         INFO("camera " << c);
         REQUIRE_FALSE(vis[wallCount]);
         REQUIRE_FALSE(vis[wallCount + 1]);
@@ -406,7 +218,7 @@ TEST_CASE("culler3d: occluder fusion: a wall of tightly packed spheres hides a s
             // The plane is opaque.
             for (int y = 6; y < 27; ++y)
                 for (int z = 6; z < 27; ++z) REQUIRE(culler.voxelState({12, y, z}).opaque);
-            Tally tally;
+            Tally tally(kCheck);
             checkFrame(culler, objects, cams[c], "sphere wall, camera " + std::to_string(c), tally);
             REQUIRE(tally.misses == 0);
             const CullResult& r = culler.lastResult();
@@ -503,7 +315,7 @@ TEST_CASE("culler3d: no misses on a systematic sweep of degenerate cameras", "[c
     shapes.push_back(Box<3>{{15, 2, 2}, {16, 3, 22}});  // below the wall's edge
     shapes.push_back(Ball<3>{{8, 8, 8}, 0.5});          // in front
     shapes.push_back(Box<3>{{6, 11, 11}, {6.5, 11.5, 11.5}});
-    const std::vector<ObjectDesc<3>> objects = describe(shapes);
+    const std::vector<ObjectDesc<3>> objects = staticObjects<3>(shapes);
     Culler3D culler(grid);
     Culler3D layerByLayer(grid, CullerOptions{true, false});
     for (const ObjectDesc<3>& o : objects) {
@@ -514,7 +326,7 @@ TEST_CASE("culler3d: no misses on a systematic sweep of degenerate cameras", "[c
     const std::vector<Vec3> dirs = {{1, 0, 0},  {0, 1, 0},   {0, 0, -1}, {1, 1, 0},  {1, 0, 1},  {1, -1, 0},
                                     {0, 1, 1},  {1, 1, 1},   {1, -1, -1}, {-1, 1, 1}, {1, 1e-9, 0}, {0, 0, 0}};
     const std::vector<double> fovs = {1, 30, 60, 90, 120, 170};
-    Tally tally, tallyLayer;
+    Tally tally(kCheck), tallyLayer(kCheck);
     int frame = 0;
     for (int kind = 0; kind < 5; ++kind)
         for (int p = 0; p < 6; ++p) {
@@ -599,7 +411,7 @@ TEST_CASE("culler3d: no misses without occluder extension (layer-by-layer caps)"
 TEST_CASE("culler3d: updateObject and removeObject keep the PVS conservative", "[culler3d]") {
     // Objects move (some while hidden), change shape, disappear and appear over several frames; every
     // frame is checked against the reference on the current set of objects.
-    Tally tally;
+    Tally tally(kCheck);
     for (std::uint64_t seed = 500001; seed < 500101; ++seed) {
         ref::SceneOptions3D opt;
         if (seed % 2) { // crowded: more occlusion to get wrong
@@ -716,7 +528,7 @@ TEST_CASE("culler3d: the moving-spheres benchmark scene, small", "[culler3d]") {
         fine.addObject(o);
         coarser.addObject(o);
     }
-    Tally tFine, tCoarse;
+    Tally tFine(kCheck), tCoarse(kCheck);
     const int frames = 40;
     for (int f = 0; f < frames; ++f) {
         const Camera3 cam = ref::movingSpheresCamera(b, f, frames);
@@ -743,7 +555,7 @@ TEST_CASE("culler3d: adaptive caps: frames without caps stay conservative, and a
         ref::MovingSpheres3D b = ref::movingSpheres3D(11, 400, {50, 30, 50}, 4);
         Culler3D culler(b.grid, shells);
         for (const ObjectDesc<3>& o : b.objects) culler.addObject(o);
-        Tally t;
+        Tally t(kCheck);
         int deferred = 0;
         const int frames = 40;
         for (int f = 0; f < frames; ++f) {
@@ -771,7 +583,7 @@ TEST_CASE("culler3d: adaptive caps: frames without caps stay conservative, and a
             objects.push_back({.id = id, .shape = Ball<3>{c, 0.3}, .isStatic = true});
         }
         for (const ObjectDesc<3>& o : objects) culler.addObject(o);
-        Tally t;
+        Tally t(kCheck);
         const Camera3 away = makeCamera({32.5, 16.5, 5.5}, {-1, 0, 0.1}, 60);
         const Camera3 wall = makeCamera({32.5, 16.5, 5.5}, {0, 0, 1}, 60);
         // The schedule: caps, 1 frame without, caps, 2 frames without, ...: frames 1, 3 and 4 start without.

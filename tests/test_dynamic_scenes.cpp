@@ -9,39 +9,31 @@
 // Besides misses, each frame checks the documented bookkeeping: the query callback is called at most
 // once per id, never for a static id; stats add up (tracked + hidden + static + parked == objects); no
 // speed violations (motion obeys maxSpeed); cameraJump on teleports (boundary TBVs).
-#include "ExactVisibility2D.hpp"
-#include "ExactVisibility3D.hpp"
-#include "RandomScenes2D.hpp"
-#include "RandomScenes3D.hpp"
+#include "CullerTestSupport.hpp"
 
 #include "rgvc/dynamics/Culler.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
+#include <functional>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
 #include <unordered_map>
 #include <vector>
 
 using namespace rgvc;
 namespace ref = rgvc::reference;
 namespace sr = rgvc::reference::seeded;
+using rgvc::culler_test::contains;
+using rgvc::culler_test::msSince;
+using rgvc::culler_test::referenceVisible;
 
 namespace {
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-bool contains(const std::vector<ObjectId>& sorted, ObjectId id) { return std::binary_search(sorted.begin(), sorted.end(), id); }
 
 // The application's side of a dynamic scene: true placements, velocities, the camera walk.
 template <int D> struct World {
@@ -189,16 +181,6 @@ template <int D> World<D> makeWorld(std::uint64_t seed, double teleportChance = 
     return w;
 }
 
-// The exact 2D reference or the sampled 3D one; `witness` gets the point where each object was seen.
-template <int D> std::vector<bool> referenceVisible(const std::vector<Shape<D>>& s, const Camera<D>& c, std::vector<Vec<D>>& witness) {
-    std::conditional_t<D == 2, ref::ExactStats, ref::Visibility3DStats> st;
-    std::vector<bool> v;
-    if constexpr (D == 2) v = ref::exactVisible2D(s, c, {}, &st);
-    else v = ref::visible3D(s, c, {}, &st);
-    witness = st.witness;
-    return v;
-}
-
 // Failures of one test case: counted, the first few kept in full, reported once at the end.
 struct Failures {
     std::size_t count = 0;
@@ -271,17 +253,6 @@ template <int D> struct QueryLog {
     }
 };
 
-std::string saveScene(const std::string& json, const std::string& origin) {
-    std::string name = "rgvc-dynamic-";
-    for (char ch : origin) name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '-';
-    std::error_code ec;
-    const std::filesystem::path p = std::filesystem::temp_directory_path(ec) / (name + ".json");
-    if (ec) return "";
-    std::ofstream f(p);
-    f << json;
-    return f ? p.string() : "";
-}
-
 // Compares the frame's PVS with the reference (present objects only); on a miss, explains it. Returns the
 // reference's answer per present object.
 template <int D> std::vector<bool> checkReference(const Culler<D>& culler, const World<D>& w, const CullResult& r,
@@ -292,8 +263,8 @@ template <int D> std::vector<bool> checkReference(const Culler<D>& culler, const
     std::vector<Shape<D>> shapes;
     for (const ObjectDesc<D>& o : objs) shapes.push_back(o.shape);
     const auto t0 = std::chrono::steady_clock::now();
-    std::vector<Vec<D>> witness;
-    const std::vector<bool> visible = referenceVisible(shapes, w.camera, witness);
+    culler_test::ReferenceStats<D> stats;
+    const std::vector<bool> visible = referenceVisible(shapes, w.camera, &stats);
     tally.refMs += msSince(t0);
     ++tally.referenceFrames;
     std::size_t nVisible = 0;
@@ -323,14 +294,12 @@ template <int D> std::vector<bool> checkReference(const Culler<D>& culler, const
     os << origin << ": " << missed.size() << " visible object(s) missing from the PVS (" << r.pvs.size() << " reported, "
        << nVisible << " visible; hidden " << r.stats.hiddenObjects << ", tracked " << r.stats.trackedObjects << ")";
     for (std::size_t i : missed) {
-        const IVec<D> v = culler.grid().voxelOf(witness[i]);
-        const VoxelState s = culler.voxelState(v);
-        os << "\n  missed id " << objs[i].id << (objs[i].isStatic ? " (static)" : "") << " maxSpeed " << objs[i].maxSpeed << ", seen in voxel (";
-        for (int a = 0; a < D; ++a) os << v[a] << (a + 1 < D ? ", " : ")");
-        os << " opaque=" << s.opaque << " occluded=" << s.occluded << " visited=" << s.visited << " hasIds=" << s.hasIds
-           << " hasTbv=" << s.hasTbv << "; a fresh culler " << (contains(freshPvs, objs[i].id) ? "reports it (TBV bug)" : "misses it too");
+        os << "\n  missed id " << objs[i].id << (objs[i].isStatic ? " (static)" : "") << " maxSpeed " << objs[i].maxSpeed << ", seen in "
+           << culler_test::describeVoxel(culler, stats.witness[i]) << "; a fresh culler "
+           << (contains(freshPvs, objs[i].id) ? "reports it (TBV bug)" : "misses it too");
     }
-    const std::string path = saveScene(ref::toJson(culler.grid(), objs, w.camera), origin);
+    const std::string path =
+        culler_test::saveScene("dynamic", ref::toJson(culler.grid(), objs, w.camera), origin, /*squeezeDashes=*/false);
     os << "\n  this frame's placements: " << (path.empty() ? "(not written)" : path);
     fails.add(os.str());
     return visible;
@@ -587,9 +556,8 @@ template <int D> void runFromBehind(World<D>& w, int frames, double growth) {
             wasVisible[i] = s.visible[i];
             const Box<D> b = boundsOf<D>(obj.shape);
             const Vec<D> grow(2 * growth + 2 + obj.maxSpeed);
-            std::vector<Vec<D>> witness;
             const std::vector<Shape<D>> probe = {w.objects[0].shape, Box<D>{b.min - grow, b.max + grow}};
-            if (f >= 3 && !referenceVisible(probe, w.camera, witness)[1]) {
+            if (f >= 3 && !referenceVisible(probe, w.camera)[1]) {
                 ++deepFrames[i];
                 deepQueries[i] += s.log.lastFrame.count(obj.id) && s.log.lastFrame.at(obj.id) == f;
                 CHECK(r.stats.hiddenObjects >= 1);

@@ -2,8 +2,7 @@
 // buffer hides must be one the reference does not see). The culler's own tests (test_culler3d,
 // test_stress3d) run the buffer inside the whole pipeline; these check it alone, with occludees placed
 // to graze the occluders' silhouettes and to sit just behind their near surfaces.
-#include "ExactVisibility3D.hpp"
-#include "RandomScenes3D.hpp"
+#include "CullerTestSupport.hpp"
 
 #include "rgvc/grid/OcclusionBuffer3D.hpp"
 
@@ -20,10 +19,11 @@
 using namespace rgvc;
 namespace ref = rgvc::reference;
 namespace sd = rgvc::reference::scene3d_detail;
+using rgvc::culler_test::bufferPass;
+using rgvc::culler_test::kPi;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const GridGeometry3 kUnitGrid(Vec3(0.0), 1.0, IVec3(100));
 
 Camera3 lookingAlongZ(Vec3 position = {50, 30, 0}, double fov = 60, double aspect = 1) {
@@ -33,22 +33,6 @@ Camera3 lookingAlongZ(Vec3 position = {50, 30, 0}, double fov = 60, double aspec
     c.fovDeg = fov;
     c.aspect = aspect;
     return c;
-}
-
-/// The culler's pass (Culler.cpp refineWithBuffer) over all objects with no slack: nearest first,
-/// hidden ones marked, the others drawn.
-std::vector<bool> bufferPass(OcclusionBuffer3D& buffer, const std::vector<Shape<3>>& objects, double slack) {
-    std::vector<std::pair<double, std::size_t>> order;
-    for (std::size_t i = 0; i < objects.size(); ++i) order.push_back({buffer.nearestDistance(objects[i], slack), i});
-    std::sort(order.begin(), order.end());
-    std::vector<bool> hidden(objects.size(), false);
-    for (const auto& [d, i] : order) {
-        if (buffer.hidden(objects[i], slack))
-            hidden[i] = true;
-        else
-            buffer.draw(objects[i], slack);
-    }
-    return hidden;
 }
 
 } // namespace

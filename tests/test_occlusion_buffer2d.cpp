@@ -1,8 +1,7 @@
 // OcclusionBuffer2D: fixed cases, occludees grazing occluders' silhouettes, the +-pi seam and the full
 // circle, and random scenes against the exact 2D reference (an object the buffer hides must be one the
 // reference does not see). Tag: [buffer2d].
-#include "ExactVisibility2D.hpp"
-#include "RandomScenes2D.hpp"
+#include "CullerTestSupport.hpp"
 
 #include "rgvc/grid/OcclusionBuffer2D.hpp"
 #include "rgvc/grid/ViewWedge.hpp"
@@ -20,37 +19,15 @@
 using namespace rgvc;
 namespace ref = rgvc::reference;
 namespace sd = rgvc::reference::seeded;
+using rgvc::culler_test::bufferPass;
+using rgvc::culler_test::kPi;
+using rgvc::culler_test::makeCamera;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const GridGeometry2 kUnitGrid(Vec2(0.0), 1.0, IVec2(100));
 
-Camera2 makeCamera(Vec2 position, Vec2 direction, double fovDeg) {
-    Camera2 c;
-    c.position = position;
-    c.direction = direction;
-    c.fovDeg = fovDeg;
-    return c;
-}
-
 Vec2 unitAt(double angle) { return {std::cos(angle), std::sin(angle)}; }
-
-/// The culler's pass (Culler.cpp refineWithBuffer) over all objects: nearest first, hidden ones marked,
-/// the others drawn.
-std::vector<bool> bufferPass(OcclusionBuffer2D& buffer, const std::vector<Shape<2>>& objects, double slack) {
-    std::vector<std::pair<double, std::size_t>> order;
-    for (std::size_t i = 0; i < objects.size(); ++i) order.push_back({buffer.nearestDistance(objects[i], slack), i});
-    std::sort(order.begin(), order.end());
-    std::vector<bool> hidden(objects.size(), false);
-    for (const auto& [d, i] : order) {
-        if (buffer.hidden(objects[i], slack, d))
-            hidden[i] = true;
-        else
-            buffer.draw(objects[i], slack);
-    }
-    return hidden;
-}
 
 /// Angular extent [lo, hi] of a shape's vertices (or a disc) seen from `eye`, as angles around `mid`'s
 /// direction (the shape must not hold the eye).

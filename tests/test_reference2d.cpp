@@ -1,8 +1,7 @@
 // The exact 2D visibility reference checked on its own: hand-made cases whose answer is known on paper,
 // then agreement with dense ray casting and a mirror-symmetry check on random scenes. Every culler test
 // trusts this reference, so it gets its own tests first.
-#include "ExactVisibility2D.hpp"
-#include "RandomScenes2D.hpp"
+#include "CullerTestSupport.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -11,6 +10,7 @@
 #include <vector>
 
 using namespace rgvc;
+using rgvc::culler_test::makeCamera;
 using rgvc::reference::denseRaycastVisible2D;
 using rgvc::reference::exactVisible2D;
 using rgvc::reference::ExactOptions;
@@ -19,15 +19,6 @@ using rgvc::reference::touchesViewRegion;
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-Camera2 camera(Vec2 pos, Vec2 dir, double fov, double far = std::numeric_limits<double>::infinity()) {
-    Camera2 c;
-    c.position = pos;
-    c.direction = dir;
-    c.fovDeg = fov;
-    c.far = far;
-    return c;
-}
 
 Shape<2> circle(Vec2 c, double r) { return Ball<2>{c, r}; }
 Shape<2> box(Vec2 lo, Vec2 hi) { return Box<2>{lo, hi}; }
@@ -43,7 +34,7 @@ std::vector<bool> expect(std::initializer_list<bool> v) { return std::vector<boo
 } // namespace
 
 TEST_CASE("reference2d: a wall hides what lies behind it", "[reference]") {
-    Camera2 cam = camera({0, 0}, {1, 0}, 90);
+    Camera2 cam = makeCamera({0, 0}, {1, 0}, 90);
     std::vector<Shape<2>> objs = {
         box({5, -10}, {6, 10}),  // the wall
         circle({10, 0}, 1),      // straight behind it
@@ -56,7 +47,7 @@ TEST_CASE("reference2d: a wall hides what lies behind it", "[reference]") {
 }
 
 TEST_CASE("reference2d: objects abutting along an edge fuse, touching at a point they do not", "[reference]") {
-    Camera2 cam = camera({0, 0}, {1, 0}, 60);
+    Camera2 cam = makeCamera({0, 0}, {1, 0}, 60);
     const Shape<2> target = circle({10, 0}, 0.5);
     // Only the ray along y = 0 can reach the target; it runs along the shared edge y = 0, x in [5, 6].
     SECTION("two boxes sharing an edge: the seam ray is blocked") {
@@ -90,7 +81,7 @@ TEST_CASE("reference2d: objects abutting along an edge fuse, touching at a point
 TEST_CASE("reference2d: a ray grazing an edge sees a tangent circle", "[reference]") {
     // Every ray into the circle below y = 0 crosses the box; the ray along y = 0 runs on the box's top
     // edge (its boundary, not its interior) and touches the circle at (10, 0).
-    Camera2 cam = camera({0, 0}, {1, 0}, 90);
+    Camera2 cam = makeCamera({0, 0}, {1, 0}, 90);
     std::vector<Shape<2>> objs = {box({5, -5}, {6, 0}), circle({10, -1}, 1)};
     CHECK(exactVisible2D(objs, cam) == expect({true, true}));
     CHECK(denseRaycastVisible2D(objs, cam) == expect({true, false}));
@@ -106,12 +97,12 @@ TEST_CASE("reference2d: a camera inside or on an object", "[reference]") {
         circle({15, 15}, 1),   // outside the box
         circle({2, 2}, 0.5),   // also holds the camera
     };
-    CHECK(exactVisible2D(objs, camera({2, 2}, {1, 1}, 90)) == expect({true, false, false, true}));
+    CHECK(exactVisible2D(objs, makeCamera({2, 2}, {1, 1}, 90)) == expect({true, false, false, true}));
     // A camera on the box's right face looking out sees the box (it holds the camera) and what is outside.
     objs.push_back(circle({15, 5}, 1));
-    CHECK(exactVisible2D(objs, camera({10, 5}, {1, 0}, 60)) == expect({true, false, false, false, true}));
+    CHECK(exactVisible2D(objs, makeCamera({10, 5}, {1, 0}, 60)) == expect({true, false, false, false, true}));
     // On the face looking in, only the box itself (and the inner circle is behind its interior).
-    CHECK(exactVisible2D(objs, camera({10, 5}, {-1, 0}, 60)) == expect({true, false, false, false, false}));
+    CHECK(exactVisible2D(objs, makeCamera({10, 5}, {-1, 0}, 60)) == expect({true, false, false, false, false}));
 }
 
 TEST_CASE("reference2d: 360 degrees inside a closed room", "[reference]") {
@@ -125,18 +116,18 @@ TEST_CASE("reference2d: 360 degrees inside a closed room", "[reference]") {
     const auto want = expect({true, true, true, true, true, true, false, false});
     for (Vec2 dir : {Vec2{1, 0}, Vec2{0, -1}, Vec2{-1, -1}, Vec2{0.3, 0.7}}) {
         CAPTURE(dir.x, dir.y);
-        CHECK(exactVisible2D(objs, camera({0, 0}, dir, 360)) == want);
+        CHECK(exactVisible2D(objs, makeCamera({0, 0}, dir, 360)) == want);
     }
     // The same room with 359 degrees looking right: the one degree behind still shows the left circle.
-    CHECK(exactVisible2D(objs, camera({0, 0}, {1, 0}, 359)) == want);
+    CHECK(exactVisible2D(objs, makeCamera({0, 0}, {1, 0}, 359)) == want);
     // ...but not with 90 degrees. The top wall would be reached only along the upper wedge edge (45
     // degrees, through the corner (4, 4)), and the circle at (2, 2) sits on that ray; the bottom wall is
     // reached along the lower edge through (4, -4), which is free.
-    CHECK(exactVisible2D(objs, camera({0, 0}, {1, 0}, 90)) == expect({true, false, false, true, false, true, false, false}));
+    CHECK(exactVisible2D(objs, makeCamera({0, 0}, {1, 0}, 90)) == expect({true, false, false, true, false, true, false, false}));
 }
 
 TEST_CASE("reference2d: tiny fov and the wedge edges", "[reference]") {
-    Camera2 cam = camera({0, 0}, {1, 0}, 0.5);
+    Camera2 cam = makeCamera({0, 0}, {1, 0}, 0.5);
     const double edge = 0.25 * kPi / 180, d = 50, r = 1;
     // A circle whose distance to the upper edge line is r -+ 1e-6: it just meets / just misses the wedge.
     auto nearEdge = [&](double gap) {
@@ -150,20 +141,20 @@ TEST_CASE("reference2d: tiny fov and the wedge edges", "[reference]") {
 }
 
 TEST_CASE("reference2d: far limit", "[reference]") {
-    Camera2 cam = camera({0, 0}, {1, 0}, 90, 10);
+    Camera2 cam = makeCamera({0, 0}, {1, 0}, 90, 10);
     std::vector<Shape<2>> objs = {circle({12, 0}, 1), circle({10.5, 0}, 1), circle({10.5, 0}, 0.4),
                                   box({7, 7}, {8, 8}) /* nearest corner at distance 9.9 */};
     CHECK(exactVisible2D(objs, cam) == expect({false, true, false, true}));
 }
 
 TEST_CASE("reference2d: touchesViewRegion", "[reference]") {
-    Camera2 narrow = camera({0, 0}, {1, 0}, 60);
+    Camera2 narrow = makeCamera({0, 0}, {1, 0}, 60);
     CHECK_FALSE(touchesViewRegion(circle({-5, 0}, 1), narrow));                    // behind
     CHECK(touchesViewRegion(box({-1, -1}, {1, 1}), narrow));                       // holds the camera
     CHECK(touchesViewRegion(ConvexPolygon{{{5, 5}, {6, 0}, {7, 5}}}, narrow));     // crosses an edge
     CHECK_FALSE(touchesViewRegion(ConvexPolygon{{{5, 5}, {6, 4}, {7, 5}}}, narrow)); // above the edge
-    CHECK_FALSE(touchesViewRegion(box({20, -1}, {21, 1}), camera({0, 0}, {1, 0}, 60, 19.5)));
-    Camera2 wide = camera({0, 0}, {1, 0}, 270); // the missing quarter is the cone around (-1, 0)
+    CHECK_FALSE(touchesViewRegion(box({20, -1}, {21, 1}), makeCamera({0, 0}, {1, 0}, 60, 19.5)));
+    Camera2 wide = makeCamera({0, 0}, {1, 0}, 270); // the missing quarter is the cone around (-1, 0)
     CHECK(touchesViewRegion(circle({-3, 3.5}, 0.4), wide));
     CHECK_FALSE(touchesViewRegion(circle({-5, 0}, 1), wide));
     CHECK(touchesViewRegion(box({-5, -5}, {-4, 5}), wide)); // spans the missing cone into the wedge
@@ -173,11 +164,11 @@ TEST_CASE("reference2d: a sliver polygon stays where it is (fuzz_culler2d find)"
     // Two of its points 1.4e-14 apart: its long edges are nearly parallel, and their rounded normals once
     // left a strip reaching past the polygon, "seen" from a camera looking away from it.
     const ConvexPolygon sliver{{{171, 171}, {115, 115.00000000000001}, {115, 115}}};
-    CHECK_FALSE(touchesViewRegion(sliver, camera({-29, 263}, {0, 1}, 179.999)));
-    CHECK_FALSE(exactVisible2D({sliver}, camera({-29, 263}, {0, 1}, 179.999))[0]);
+    CHECK_FALSE(touchesViewRegion(sliver, makeCamera({-29, 263}, {0, 1}, 179.999)));
+    CHECK_FALSE(exactVisible2D({sliver}, makeCamera({-29, 263}, {0, 1}, 179.999))[0]);
     // Looking at it, it is there.
-    CHECK(touchesViewRegion(sliver, camera({-29, 263}, {1, -2}, 90)));
-    CHECK(touchesViewRegion(sliver, camera({143, 143}, {1, 1}, 10)));
+    CHECK(touchesViewRegion(sliver, makeCamera({-29, 263}, {1, -2}, 90)));
+    CHECK(touchesViewRegion(sliver, makeCamera({143, 143}, {1, 1}, 10)));
 }
 
 TEST_CASE("reference2d: analytic sweep agrees with dense ray casting on random scenes", "[reference]") {

@@ -3,8 +3,7 @@
 // far), symmetry under mirroring and permuting the axes, nested sampling densities, agreement with the
 // exact view-region test, and the random scene generators. Every 3D culler test trusts this reference,
 // so it gets its own tests first.
-#include "ExactVisibility3D.hpp"
-#include "RandomScenes3D.hpp"
+#include "CullerTestSupport.hpp"
 
 #if __has_include("SceneFile.hpp")
 #include "SceneFile.hpp"
@@ -22,6 +21,7 @@
 #include <vector>
 
 using namespace rgvc;
+using rgvc::culler_test::makeCamera;
 namespace ref = rgvc::reference;
 using ref::visible3D;
 using ref::Visibility3DOptions;
@@ -31,17 +31,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-Camera3 camera(Vec3 pos, Vec3 dir, double fov, double far = kInf, double aspect = 1, Vec3 up = Vec3(0.0)) {
-    Camera3 c;
-    c.position = pos;
-    c.direction = dir;
-    c.fovDeg = fov;
-    c.far = far;
-    c.aspect = aspect;
-    c.up = up;
-    return c;
-}
 
 Shape<3> sphere(Vec3 c, double r) { return Ball<3>{c, r}; }
 Shape<3> box(Vec3 lo, Vec3 hi) { return Box<3>{lo, hi}; }
@@ -111,7 +100,7 @@ std::vector<AxisMap> allAxisMaps() {
 } // namespace
 
 TEST_CASE("reference3d: a big box hides what lies behind it, not what lies beside it", "[reference3d]") {
-    Camera3 cam = camera({0, 0, 0}, {1, 0, 0}, 60);
+    Camera3 cam = makeCamera({0, 0, 0}, {1, 0, 0}, 60);
     std::vector<Shape<3>> objs = {
         box({5, -2, -2}, {6, 2, 2}), // the occluder: 21.8 degrees around the view axis
         sphere({10, 0, 0}, 1),       // straight behind it (5.7 degrees)
@@ -134,7 +123,7 @@ TEST_CASE("reference3d: a wall of boxes sharing faces hides a sphere behind it (
     // 4x4 tiles of 1x1 in y and z, 0.5 thick; the sphere straight behind is 5.7 degrees wide, the wall
     // 21.8. Rays along y = k or z = k planes run on shared faces, and the ray to the sphere's centre runs
     // along the line where four tiles meet.
-    Camera3 cam = camera({0, 0, 0}, {1, 0, 0}, 60);
+    Camera3 cam = makeCamera({0, 0, 0}, {1, 0, 0}, 60);
     auto wall = [](double gap) {
         std::vector<Shape<3>> w;
         for (int i = -2; i < 2; ++i)
@@ -164,7 +153,7 @@ TEST_CASE("reference3d: a wall of boxes sharing faces hides a sphere behind it (
         std::vector<Shape<3>> objs = wall(0);
         objs.push_back(sphere({10, 0.3, 0.3}, 0.2)); // behind tiles, off every seam line
         objs.push_back(sphere({10, 0, 0.3}, 0.2));   // centred on the seam plane y = 0
-        Camera3 c2 = camera({0, 0, 0.3}, {1, 0, 0}, 10);
+        Camera3 c2 = makeCamera({0, 0, 0.3}, {1, 0, 0}, 10);
         auto fused = visible3D(objs, c2);
         CHECK_FALSE(fused[objs.size() - 2]);
         CHECK_FALSE(fused.back());
@@ -218,7 +207,7 @@ TEST_CASE("reference3d: a pinhole: critical rays find what sampling misses", "[r
     // only rays through it lie within about 4e-5 radians of (1, 0.002, 0.002); the grid's spacing is 4e-3
     // and the target sphere's own samples are as coarse. The rays through the hole's corners (box
     // corners, crossings of box edge outlines) graze two boxes and reach the sphere.
-    Camera3 cam = camera({0, 0, 0}, {1, 0, 0}, 30);
+    Camera3 cam = makeCamera({0, 0, 0}, {1, 0, 0}, 30);
     const double c = 0.01, h = 1e-4, x0 = 5, x1 = 5.01;
     std::vector<Shape<3>> objs = {
         box({x0, -1, -1}, {x1, c - h, 1}),    box({x0, c + h, -1}, {x1, 1, 1}),    // below and above the hole in y
@@ -241,7 +230,7 @@ TEST_CASE("reference3d: a pinhole: critical rays find what sampling misses", "[r
 TEST_CASE("reference3d: a ray grazing a box face sees a tangent sphere", "[reference3d]") {
     // Every ray into the sphere below y = 0 crosses the box's interior; the ray along y = 0 runs on the
     // box's top face (its boundary) and touches the sphere at (10, 0, 0).
-    Camera3 cam = camera({0, 0, 0}, {1, 0, 0}, 60);
+    Camera3 cam = makeCamera({0, 0, 0}, {1, 0, 0}, 60);
     std::vector<Shape<3>> objs = {box({5, -5, -5}, {6, 0, 5}), sphere({10, -1, 0}, 1)};
     CHECK(show(visible3D(objs, cam)) == "11");
     CHECK(show(visible3D(objs, cam, density(0, 16))) == "11"); // the silhouette targets find it
@@ -258,18 +247,18 @@ TEST_CASE("reference3d: cameras inside objects", "[reference3d]") {
         box({-1, -1, -1}, {1, 1, 1}), // also holds the camera
         box({-20, -1, -1}, {-15, 1, 1}), // behind the camera, outside
     };
-    CHECK(show(visible3D(objs, camera({0, 0, 0}, {1, 0, 0}, 90))) == "10010");
-    CHECK(show(visible3D(objs, camera({0.5, 0.5, 0.5}, {-1, 0, 0}, 90))) == "10010");
+    CHECK(show(visible3D(objs, makeCamera({0, 0, 0}, {1, 0, 0}, 90))) == "10010");
+    CHECK(show(visible3D(objs, makeCamera({0.5, 0.5, 0.5}, {-1, 0, 0}, 90))) == "10010");
     // On the big sphere's surface looking out: it holds the camera; the box at 20 is free to see.
-    CHECK(show(visible3D({objs[0], objs[2]}, camera({10, 0, 0}, {1, 0, 0}, 30))) == "11");
+    CHECK(show(visible3D({objs[0], objs[2]}, makeCamera({10, 0, 0}, {1, 0, 0}, 30))) == "11");
     // On the same point looking in: only the sphere itself (the small one is behind its interior).
-    CHECK(show(visible3D({objs[0], objs[1], objs[2]}, camera({10, 0, 0}, {-1, 0, 0}, 30))) == "100");
+    CHECK(show(visible3D({objs[0], objs[1], objs[2]}, makeCamera({10, 0, 0}, {-1, 0, 0}, 30))) == "100");
     // A camera on a box corner looking away sees the box (closed sets) and a sphere in front.
-    CHECK(show(visible3D({box({0, 0, 0}, {1, 1, 1}), sphere({-5, -5, -5}, 1)}, camera({0, 0, 0}, {-1, -1, -1}, 20))) == "11");
+    CHECK(show(visible3D({box({0, 0, 0}, {1, 1, 1}), sphere({-5, -5, -5}, 1)}, makeCamera({0, 0, 0}, {-1, -1, -1}, 20))) == "11");
 }
 
 TEST_CASE("reference3d: objects outside the frustum", "[reference3d]") {
-    Camera3 cam = camera({0, 0, 0}, {0, 0, -1}, 40, kInf, 2.0); // tanV = 0.364, tanH = 0.728
+    Camera3 cam = makeCamera({0, 0, 0}, {0, 0, -1}, 40, kInf, 2.0); // tanV = 0.364, tanH = 0.728
     std::vector<Shape<3>> objs = {
         sphere({0, 0, 10}, 1),     // behind
         sphere({0, 6, -10}, 1),    // above: 31 degrees > 20
@@ -287,7 +276,7 @@ TEST_CASE("reference3d: objects outside the frustum", "[reference3d]") {
 }
 
 TEST_CASE("reference3d: far limit", "[reference3d]") {
-    Camera3 cam = camera({0, 0, 0}, {1, 0, 0}, 90, 10);
+    Camera3 cam = makeCamera({0, 0, 0}, {1, 0, 0}, 90, 10);
     std::vector<Shape<3>> objs = {
         sphere({12, 0, 0}, 1),             // nearest point at 11
         sphere({10.5, 0, 0}, 1),           // nearest point at 9.5
@@ -304,7 +293,7 @@ TEST_CASE("reference3d: far limit", "[reference3d]") {
 TEST_CASE("reference3d: frustum planes and edges, grazing", "[reference3d]") {
     // A 1-degree frustum, aspect 1.5. A sphere whose distance to the top plane's line of sight is r -+ 1e-6
     // just meets / just misses the view region; the same at the corner edge ray.
-    Camera3 cam = camera({0, 0, 0}, {1, 0, 0}, 1, kInf, 1.5);
+    Camera3 cam = makeCamera({0, 0, 0}, {1, 0, 0}, 1, kInf, 1.5);
     const double tanV = std::tan(0.5 * kPi / 180), tanH = 1.5 * tanV, d = 50, r = 0.2;
     auto nearTop = [&](double gap) { // centre above the top plane at perpendicular distance r + gap
         double beta = std::atan(tanV) + std::asin((r + gap) / d);
@@ -331,15 +320,15 @@ TEST_CASE("reference3d: frustum planes and edges, grazing", "[reference3d]") {
 TEST_CASE("reference3d: an explicit up vector rolls the frustum", "[reference3d]") {
     // Wide horizontally (aspect 3): rolled 90 degrees by up = +z, the wide axis becomes y.
     std::vector<Shape<3>> objs = {sphere({10, 15, 0}, 1), sphere({10, 0, 15}, 1)};
-    CHECK(show(visible3D(objs, camera({0, 0, 0}, {1, 0, 0}, 60, kInf, 3.0))) == "01");
-    CHECK(show(visible3D(objs, camera({0, 0, 0}, {1, 0, 0}, 60, kInf, 3.0, {0, 0, 1}))) == "10");
+    CHECK(show(visible3D(objs, makeCamera({0, 0, 0}, {1, 0, 0}, 60, kInf, 3.0))) == "01");
+    CHECK(show(visible3D(objs, makeCamera({0, 0, 0}, {1, 0, 0}, 60, kInf, 3.0, {0, 0, 1}))) == "10");
     // Looking straight up needs an explicit up.
-    CHECK(show(visible3D({sphere({0, 10, 0}, 1)}, camera({0, 0, 0}, {0, 1, 0}, 30, kInf, 1, {0, 0, 1}))) == "1");
+    CHECK(show(visible3D({sphere({0, 10, 0}, 1)}, makeCamera({0, 0, 0}, {0, 1, 0}, 30, kInf, 1, {0, 0, 1}))) == "1");
     // Any non-zero up counts, as in the library: a denormal one too (its square underflows to zero; the
     // reference once read it as "no up" and disagreed with the culler, found by fuzz_culler3d).
     const double tiny = std::numeric_limits<double>::denorm_min();
-    CHECK(show(visible3D(objs, camera({0, 0, 0}, {1, 0, 0}, 60, kInf, 3.0, {0, 0, tiny}))) == "10");
-    CHECK(show(visible3D(objs, camera({0, 0, 0}, {1, 0, 0}, 60, kInf, 3.0, {0, 0, -tiny}))) == "10");
+    CHECK(show(visible3D(objs, makeCamera({0, 0, 0}, {1, 0, 0}, 60, kInf, 3.0, {0, 0, tiny}))) == "10");
+    CHECK(show(visible3D(objs, makeCamera({0, 0, 0}, {1, 0, 0}, 60, kInf, 3.0, {0, 0, -tiny}))) == "10");
 }
 
 TEST_CASE("reference3d: mirrored and permuted axes give the same answers", "[reference3d]") {
@@ -352,7 +341,7 @@ TEST_CASE("reference3d: mirrored and permuted axes give the same answers", "[ref
     objs.push_back(box({7, -3, -3}, {7.5, -2.5, 3})); // a post at the lower edge
     objs.push_back(sphere({3, -1, -1}, 0.2));
     objs.push_back(sphere({17, 0, 0}, 3));          // beyond far
-    const Camera3 cam = camera({0.1, 0.05, 0}, {1, 0.02, 0.01}, 50, 14, 1.2);
+    const Camera3 cam = makeCamera({0.1, 0.05, 0}, {1, 0.02, 0.01}, 50, 14, 1.2);
     const auto want = visible3D(objs, cam, density(96, 8));
     CHECK(show(want) == "1111111111111111" "01110"); // tiles; hidden, beside, post, front, hidden beyond the wall
     for (const AxisMap& m : allAxisMaps()) {

@@ -14,227 +14,35 @@
 // Every case is drawn from a seed; a failure prints the case, the seed and the camera index, the missed
 // ids with the point where the reference saw each and the voxel there, and writes the scene as a
 // scene-format JSON file to the temp directory (replayable with `rgvc cull`). A few hundred frames.
-#include "ExactVisibility3D.hpp"
-#include "RandomScenes3D.hpp"
+#include "CullerTestSupport.hpp"
 
 #include "rgvc/dynamics/Culler.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <cctype>
-#include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <functional>
-#include <iostream>
+#include <cstdint>
+#include <iterator>
 #include <limits>
 #include <random>
-#include <sstream>
 #include <string>
-#include <type_traits>
 #include <variant>
 #include <vector>
 
 using namespace rgvc;
-namespace ref = rgvc::reference;
+using namespace rgvc::culler_test;
 namespace sd = rgvc::reference::scene3d_detail;
 
 namespace {
 
-constexpr double kPi = 3.141592653589793;
-const double kInf = std::numeric_limits<double>::infinity();
+// Every frame is checked against the sampled reference, ids included; no view-region figures.
+const CheckOptions kCheck{.suite = "stress3d", .viewRegion = false, .checkIdsKnown = true};
 
-struct Tally {
-    std::size_t frames = 0, framesWithVisible = 0, misses = 0, failedFrames = 0, sumVisible = 0, sumPvs = 0;
-    std::size_t fallbacks = 0, unshifted = 0;
-    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
-
-    void print(const std::string& name) const {
-        std::ostringstream os;
-        os.precision(4);
-        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        os << "[stress3d] " << name << ": " << frames << " frames (" << framesWithVisible << " with something visible, "
-           << fallbacks << " camera-outside fallbacks), " << misses << " misses; pooled |PVS|/|visible| = "
-           << (sumVisible ? double(sumPvs) / double(sumVisible) : 0.0);
-        if (unshifted) os << "; " << unshifted << " frames checked unshifted";
-        os << "; " << s << " s\n";
-        std::cout << os.str() << std::flush;
-    }
-};
-
-std::string saveScene(const std::string& json, const std::string& label) {
-    std::string name = "rgvc-stress3d-";
-    for (char ch : label) {
-        const char c = std::isalnum(static_cast<unsigned char>(ch)) ? ch : '-';
-        if (c != '-' || name.back() != '-') name += c;
-    }
-    std::error_code ec;
-    std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
-    if (ec) return "";
-    std::filesystem::path p = dir / (name + ".json");
-    std::ofstream f(p);
-    f << json;
-    return f ? p.string() : "";
-}
-
-/// x - shift, when that difference is exact (Sterbenz: same sign, within a factor of two; or shift 0).
-bool exactDifference(double x, double shift, double& out) {
-    out = x - shift;
-    if (shift == 0) return true;
-    const double a = std::abs(x), b = std::abs(shift);
-    return (x > 0) == (shift > 0) && a >= 0.5 * b && a <= 2 * b;
-}
-
-/// The scene moved by -shift for the reference, when every coordinate moves exactly (false otherwise).
-/// The reference's tolerance is 1e-12 of the largest coordinate: 1e-6 at 1e6, a thousandth of a 1e-3
-/// voxel. Moved exactly next to the origin, the scene is the same problem with a tolerance to match.
-bool shiftedForReference(const Vec3& shift, std::vector<Shape<3>>& shapes, Camera3& cam) {
-    bool exact = true;
-    auto move = [&](Vec3& p) {
-        Vec3 q;
-        for (int a = 0; a < 3; ++a) exact = exactDifference(p[a], shift[a], q[a]) && exact;
-        p = q;
-    };
-    for (Shape<3>& s : shapes)
-        std::visit(
-            [&](auto& x) {
-                using T = std::decay_t<decltype(x)>;
-                if constexpr (std::is_same_v<T, Ball<3>>) move(x.center);
-                else move(x.min), move(x.max);
-            },
-            s);
-    move(cam.position);
-    return exact;
-}
-
-std::string describeVoxel(const Culler3D& culler, const Vec3& world) {
-    const IVec3 v = culler.grid().voxelOf(world);
-    const VoxelState s = culler.voxelState(v);
-    std::ostringstream os;
-    os << "voxel (" << v.x << ", " << v.y << ", " << v.z << ")";
-    if (!s.inGrid) return os.str() + " outside the grid";
-    os << " opaque=" << s.opaque << " occluded=" << s.occluded << " visited=" << s.visited << " occluder=" << s.occluder
-       << " hasIds=" << s.hasIds;
-    return os.str();
-}
-
-/// Culls `cam` on `culler` (which holds exactly `objects`) and compares with the reference, computed on
-/// the scene moved by -referenceShift where that is exact (see shiftedForReference).
-void checkFrame(Culler3D& culler, const std::vector<ObjectDesc<3>>& objects, const Camera3& cam, const std::string& label,
-                Tally& tally, const Vec3& referenceShift = Vec3(0.0)) {
-    std::vector<Shape<3>> shapes = ref::shapesOf(objects);
-    Camera3 refCam = cam;
-    if (referenceShift != Vec3(0.0) && !shiftedForReference(referenceShift, shapes, refCam)) {
-        shapes = ref::shapesOf(objects);
-        refCam = cam;
-        ++tally.unshifted;
-    }
-    ref::Visibility3DStats stats;
-    const std::vector<bool> visible = ref::visible3D(shapes, refCam, {}, &stats);
-    for (Vec3& w : stats.witness) w += cam.position - refCam.position; // back to the culler's coordinates
-    const CullResult& result = culler.cull(cam);
-    const std::vector<ObjectId>& pvs = result.pvs;
-
-    std::size_t nVisible = 0;
-    std::vector<std::size_t> missed;
-    for (std::size_t i = 0; i < objects.size(); ++i) {
-        nVisible += visible[i];
-        if (visible[i] && !std::binary_search(pvs.begin(), pvs.end(), objects[i].id)) missed.push_back(i);
-    }
-    std::vector<ObjectId> known;
-    for (const ObjectDesc<3>& o : objects) known.push_back(o.id);
-    std::sort(known.begin(), known.end());
-    const bool sortedUnique = std::adjacent_find(pvs.begin(), pvs.end(), std::greater_equal<ObjectId>()) == pvs.end();
-    const bool allKnown = sortedUnique && std::includes(known.begin(), known.end(), pvs.begin(), pvs.end());
-
-    ++tally.frames;
-    tally.fallbacks += result.stats.fallback != Fallback::None;
-    if (nVisible > 0) {
-        ++tally.framesWithVisible;
-        tally.sumVisible += nVisible;
-        tally.sumPvs += pvs.size();
-    }
-    if (missed.empty() && sortedUnique && allKnown) return;
-
-    tally.misses += missed.size();
-    if (++tally.failedFrames > 3) return; // three full reports are plenty; the count says the rest
-    std::ostringstream os;
-    os.precision(17);
-    os << label << ": " << missed.size() << " visible object(s) missing from the PVS (" << pvs.size() << " reported, "
-       << nVisible << " visible, fallback " << toString(result.stats.fallback) << ", layers " << result.stats.layers
-       << ", early termination " << result.stats.earlyTermination << ")\n";
-    for (std::size_t i : missed) {
-        const Vec3 w = stats.witness[i];
-        const Vec3 wl = culler.grid().toLocal(w);
-        os << "  missed id " << objects[i].id << " (index " << i << "), seen at world (" << w.x << ", " << w.y << ", "
-           << w.z << ") = voxel units (" << wl.x << ", " << wl.y << ", " << wl.z << "), " << describeVoxel(culler, w) << "\n";
-    }
-    const Vec3 cl = culler.grid().toLocal(cam.position);
-    os << "camera at voxel units (" << cl.x << ", " << cl.y << ", " << cl.z << "), direction (" << cam.direction.x << ", "
-       << cam.direction.y << ", " << cam.direction.z << "), up (" << cam.up.x << ", " << cam.up.y << ", " << cam.up.z
-       << "), fov " << cam.fovDeg << ", aspect " << cam.aspect << ", far " << cam.far << "; camera "
-       << describeVoxel(culler, cam.position) << "\n";
-    const std::string json = ref::toJson(culler.grid(), objects, cam);
-    const std::string path = saveScene(json, label);
-    if (!path.empty()) os << "scene written to " << path << " (replay: rgvc cull " << path << ")";
-    else os << "scene:\n" << json;
-    INFO(os.str());
-    if (!sortedUnique) FAIL_CHECK("the PVS is not sorted ascending without duplicates");
-    if (!allKnown) FAIL_CHECK("the PVS holds an id that is not in the culler");
-    if (!missed.empty()) FAIL_CHECK("culler missed a visible object");
-}
-
-Culler3D makeCuller(const GridGeometry3& grid, const std::vector<ObjectDesc<3>>& objects) {
-    Culler3D culler(grid);
-    for (const ObjectDesc<3>& o : objects) culler.addObject(o);
-    return culler;
-}
-
-bool isValid(const Shape<3>& s) {
-    Shape<3> copy = s;
-    try {
-        validateShape<3>(copy, "stress");
-        return true;
-    } catch (const InvalidInput&) {
-        return false;
-    }
-}
-
-/// Appends `shape` with a fresh id (some ids beyond 32 bits); drops shapes that rounding made invalid.
-void push(std::vector<ObjectDesc<3>>& objects, const Shape<3>& shape, std::mt19937_64& rng) {
-    if (!isValid(shape)) return;
-    ObjectDesc<3> o;
-    o.id = ObjectId(objects.size()) * 11 + 5 + (objects.size() % 4 == 1 ? (ObjectId(1) << 41) : 0);
-    o.shape = shape;
-    o.isStatic = sd::chance(rng, 0.5);
-    o.maxSpeed = o.isStatic ? 0.0 : 1.0;
-    objects.push_back(o);
-}
-
-/// `count` random objects of the RandomScenes3D mixture (snapped: every coordinate on voxel faces).
-void addRandomObjects(std::mt19937_64& rng, const GridGeometry3& grid, bool snapped, int count,
-                      std::vector<ObjectDesc<3>>& objects) {
-    const sd::Placer3 pl{grid};
-    const Vec3 r = Vec3(grid.resolution());
-    std::vector<Shape<3>> shapes;
-    while (int(shapes.size()) < count) {
-        Vec3 c{sd::uniform(rng, -0.1 * r.x, 1.1 * r.x), sd::uniform(rng, -0.1 * r.y, 1.1 * r.y),
-               sd::uniform(rng, -0.1 * r.z, 1.1 * r.z)};
-        sd::addObjects(rng, pl, snapped, c, std::min({r.x, r.y, r.z}) / 3, shapes);
-    }
-    shapes.resize(std::size_t(count));
-    for (const Shape<3>& s : shapes) push(objects, s, rng);
-}
-
-/// A grid whose voxel faces are exact doubles: dyadic voxel size, origin a multiple of it.
+/// A grid whose voxel faces are exact doubles (dyadic voxel size, origin a multiple of it).
 GridGeometry3 exactGrid(std::mt19937_64& rng, int minRes, int maxRes) {
     static const std::vector<double> sizes = {1.0, 0.5, 0.25, 2.0, 0.125};
-    const double d = sd::pick(rng, sizes);
-    const IVec3 res{sd::uniformInt(rng, minRes, maxRes), sd::uniformInt(rng, minRes, maxRes), sd::uniformInt(rng, minRes, maxRes)};
-    const Vec3 origin = Vec3{sd::uniformInt(rng, -64, 64), sd::uniformInt(rng, -64, 64), sd::uniformInt(rng, -64, 64)} * d;
-    return GridGeometry3(origin, d, res);
+    return culler_test::exactGrid<3>(rng, minRes, maxRes, sizes);
 }
 
 enum class Spot { VoxelCorner, VoxelEdge, VoxelFace, GridFace, GridEdge, GridCorner, JustOutside, Anywhere };
@@ -327,15 +135,9 @@ Vec3 upFor(std::mt19937_64& rng, const Vec3& dir) {
 const std::vector<double> kAxisFovs = {90, 60, 1, 120, 179.9, 0.01, 45, 2 * std::atan(0.5) * 180 / kPi};
 const std::vector<double> kAspects = {1, 1, 16.0 / 9.0, 0.05, 20, 0.5, 2};
 
+/// The camera, with the arguments in this file's order.
 Camera3 makeCamera(const Vec3& pos, const Vec3& dir, const Vec3& up, double fov, double aspect = 1, double far = kInf) {
-    Camera3 c;
-    c.position = pos;
-    c.direction = dir;
-    c.up = up;
-    c.fovDeg = fov;
-    c.aspect = aspect;
-    c.far = far;
-    return c;
+    return culler_test::makeCamera(pos, dir, fov, far, aspect, up);
 }
 
 /// Aims `cam` at an object's centre or bounding corner (narrow frusta see nothing when aimed at random).
@@ -350,14 +152,10 @@ void aimAtObject(std::mt19937_64& rng, Camera3& cam, const std::vector<ObjectDes
     }
 }
 
-std::string where(const std::string& name, std::uint64_t seed, int camera) {
-    return name + ", seed " + std::to_string(seed) + ", camera " + std::to_string(camera);
-}
-
 } // namespace
 
 TEST_CASE("stress3d: cameras on voxel corners, edges, faces and grid bounds looking along axes and diagonals", "[stress3d]") {
-    Tally tally;
+    Tally tally(kCheck);
     for (std::uint64_t seed = 1; seed <= 80; ++seed) {
         std::mt19937_64 rng(seed);
         const GridGeometry3 grid = exactGrid(rng, 4, 20);
@@ -371,7 +169,7 @@ TEST_CASE("stress3d: cameras on voxel corners, edges, faces and grid bounds look
                                            sd::chance(rng, 0.7) ? sd::pick(rng, std::vector<double>{90, 60, 45, 120}) : sd::pick(rng, kAxisFovs),
                                            sd::chance(rng, 0.7) ? 1.0 : sd::pick(rng, kAspects),
                                            sd::chance(rng, 0.1) ? grid.voxelSize() * sd::uniform(rng, 1, 20) : kInf);
-            checkFrame(culler, objects, cam, where(std::string("on-grid spots (") + spotName(spot) + ")", seed, camera++), tally);
+            checkFrame(culler, objects, cam, frameLabel(std::string("on-grid spots (") + spotName(spot) + ")", seed, camera++), tally);
         }
     }
     tally.print("cameras on voxel corners/edges/faces/grid bounds");
@@ -386,7 +184,7 @@ TEST_CASE("stress3d: frustum side planes grazing voxel corners", "[stress3d]") {
     // p + k*(e_a + t e_b) (exactly, in voxel units) and the side planes those with slope aspect*t. A box
     // with its edge on such a corner line, extending outward (away from the axis, towards the camera),
     // touches the frustum only along that line; a sphere tangent to the plane there touches it at a point.
-    Tally tally;
+    Tally tally(kCheck);
     for (std::uint64_t seed = 101; seed <= 250; ++seed) {
         std::mt19937_64 rng(seed);
         const GridGeometry3 grid = exactGrid(rng, 12, 24);
@@ -418,14 +216,14 @@ TEST_CASE("stress3d: frustum side planes grazing voxel corners", "[stress3d]") {
         const int other = 3 - a - side;
         lo[other] -= sd::pick(rng, std::vector<double>{0.0, 1.0, 3.0});
         hi[other] += sd::pick(rng, std::vector<double>{1e-3, 1.0, 2.0});
-        push(objects, Box<3>{pl.world(glm::min(lo, hi)), pl.world(glm::max(lo, hi))}, rng);
+        pushObject(objects, Box<3>{pl.world(glm::min(lo, hi)), pl.world(glm::max(lo, hi))}, rng);
         // A sphere tangent to the plane at q from outside.
         Vec3 n{0.0};
         n[side] = sgn;
         n[a] = -sa * slope;
         n /= std::sqrt(lengthSquared<3>(n));
         const double radius = sd::pick(rng, std::vector<double>{0.5, 2, 1e-3});
-        push(objects, Ball<3>{pl.world(q + n * radius), pl.length(radius)}, rng);
+        pushObject(objects, Ball<3>{pl.world(q + n * radius), pl.length(radius)}, rng);
         addRandomObjects(rng, grid, sd::chance(rng, 0.5), sd::uniformInt(rng, 0, 10), objects);
         Culler3D culler = makeCuller(grid, objects);
 
@@ -434,16 +232,16 @@ TEST_CASE("stress3d: frustum side planes grazing voxel corners", "[stress3d]") {
         up[b] = 1;
         const double fov = 2 * std::atan(t) * 180 / kPi;
         const Camera3 cam = makeCamera(pl.world(p), dir * sd::pick(rng, std::vector<double>{1, 8, 0.125}), up, fov, aspect);
-        checkFrame(culler, objects, cam, where(std::string("grazing ") + (vertical ? "top/bottom" : "left/right") +
+        checkFrame(culler, objects, cam, frameLabel(std::string("grazing ") + (vertical ? "top/bottom" : "left/right") +
                                                    " plane, tan " + std::to_string(slope), seed, 0),
                    tally);
         // The same scene with a slightly wider frustum (the objects now lie inside) and a narrower one.
         Camera3 wide = cam;
         wide.fovDeg = std::min(179.9, fov * 1.01);
-        checkFrame(culler, objects, wide, where("grazing plane, wider", seed, 1), tally);
+        checkFrame(culler, objects, wide, frameLabel("grazing plane, wider", seed, 1), tally);
         Camera3 narrow = cam;
         narrow.fovDeg = fov * 0.99;
-        checkFrame(culler, objects, narrow, where("grazing plane, narrower", seed, 2), tally);
+        checkFrame(culler, objects, narrow, frameLabel("grazing plane, narrower", seed, 2), tally);
     }
     tally.print("frustum planes grazing voxel corners");
     REQUIRE(tally.frames == 150 * 3);
@@ -452,11 +250,7 @@ TEST_CASE("stress3d: frustum side planes grazing voxel corners", "[stress3d]") {
 }
 
 TEST_CASE("stress3d: box faces on voxel boundaries and one ulp off them", "[stress3d]") {
-    Tally tally;
-    auto nudge = [](std::mt19937_64& rng, double v) {
-        const int m = sd::uniformInt(rng, 0, 2);
-        return m == 0 ? v : std::nextafter(v, m == 1 ? kInf : -kInf);
-    };
+    Tally tally(kCheck);
     for (std::uint64_t seed = 201; seed <= 280; ++seed) {
         std::mt19937_64 rng(seed);
         const GridGeometry3 grid = exactGrid(rng, 4, 16);
@@ -466,15 +260,15 @@ TEST_CASE("stress3d: box faces on voxel boundaries and one ulp off them", "[stre
             ObjectDesc<3> n = o;
             if (auto* bx = std::get_if<Box<3>>(&n.shape)) {
                 for (int ax = 0; ax < 3; ++ax) {
-                    bx->min[ax] = nudge(rng, bx->min[ax]);
-                    bx->max[ax] = nudge(rng, bx->max[ax]);
+                    bx->min[ax] = nudgeUlp(rng, bx->min[ax]);
+                    bx->max[ax] = nudgeUlp(rng, bx->max[ax]);
                 }
             } else {
                 auto& s = std::get<Ball<3>>(n.shape);
-                for (int ax = 0; ax < 3; ++ax) s.center[ax] = nudge(rng, s.center[ax]);
-                s.radius = nudge(rng, s.radius);
+                for (int ax = 0; ax < 3; ++ax) s.center[ax] = nudgeUlp(rng, s.center[ax]);
+                s.radius = nudgeUlp(rng, s.radius);
             }
-            if (isValid(n.shape)) nudged.push_back(n);
+            if (isValidShape<3>(n.shape)) nudged.push_back(n);
         }
         Culler3D exact = makeCuller(grid, snapped), off = makeCuller(grid, nudged);
         for (int cam = 0; cam < 4; ++cam) {
@@ -482,8 +276,8 @@ TEST_CASE("stress3d: box faces on voxel boundaries and one ulp off them", "[stre
             const Vec3 dir = axisDirection(rng);
             const Camera3 c = makeCamera(grid.toWorld(spotLocal(rng, grid.resolution(), spot)), dir, upFor(rng, dir),
                                          sd::pick(rng, std::vector<double>{90, 60, 45, 120, 1}));
-            checkFrame(exact, snapped, c, where("faces on voxel boundaries", seed, cam), tally);
-            checkFrame(off, nudged, c, where("faces one ulp off voxel boundaries", seed, cam), tally);
+            checkFrame(exact, snapped, c, frameLabel("faces on voxel boundaries", seed, cam), tally);
+            checkFrame(off, nudged, c, frameLabel("faces one ulp off voxel boundaries", seed, cam), tally);
         }
     }
     tally.print("faces on and next to voxel boundaries");
@@ -493,7 +287,7 @@ TEST_CASE("stress3d: box faces on voxel boundaries and one ulp off them", "[stre
 }
 
 TEST_CASE("stress3d: objects much smaller than a voxel and much larger than the grid", "[stress3d]") {
-    Tally tally;
+    Tally tally(kCheck);
     for (std::uint64_t seed = 301; seed <= 380; ++seed) {
         std::mt19937_64 rng(seed);
         const GridGeometry3 grid = exactGrid(rng, 4, 16);
@@ -507,9 +301,9 @@ TEST_CASE("stress3d: objects much smaller than a voxel and much larger than the 
             const Vec3 at = spotLocal(rng, grid.resolution(), kSpots[rng() % 3]); // corner, edge or face
             const double s = sd::logUniform(rng, 1e-6, 1e-2);
             const int kind = sd::uniformInt(rng, 0, 2);
-            if (kind == 0) push(objects, Ball<3>{pl.world(at), pl.length(s)}, rng);
-            else if (kind == 1) push(objects, Box<3>{pl.world(at - s), pl.world(at + s)}, rng);        // straddles
-            else push(objects, Box<3>{pl.world(at), pl.world(at + Vec3{s, 2 * s, 0.5 * s})}, rng); // from the corner
+            if (kind == 0) pushObject(objects, Ball<3>{pl.world(at), pl.length(s)}, rng);
+            else if (kind == 1) pushObject(objects, Box<3>{pl.world(at - s), pl.world(at + s)}, rng);        // straddles
+            else pushObject(objects, Box<3>{pl.world(at), pl.world(at + Vec3{s, 2 * s, 0.5 * s})}, rng); // from the corner
         }
         const std::size_t tiny = objects.size();
         for (int i = 0, n = tinyScene ? 0 : sd::uniformInt(rng, 1, 3); i < n; ++i) {
@@ -520,16 +314,16 @@ TEST_CASE("stress3d: objects much smaller than a voxel and much larger than the 
             if (kind == 0) { // a half space beyond a voxel face
                 Vec3 lo(-big), hi(big);
                 hi[ax] = cut;
-                push(objects, Box<3>{pl.world(lo), pl.world(hi)}, rng);
+                pushObject(objects, Box<3>{pl.world(lo), pl.world(hi)}, rng);
             } else if (kind == 1) { // a huge sphere whose surface crosses the grid
                 Vec3 c = 0.5 * r;
                 c[ax] = r[ax] + big - cut;
-                push(objects, Ball<3>{pl.world(c), pl.length(big)}, rng);
+                pushObject(objects, Ball<3>{pl.world(c), pl.length(big)}, rng);
             } else { // a slab one voxel thick
                 Vec3 lo(-big), hi(big);
                 lo[ax] = cut;
                 hi[ax] = cut + 1;
-                push(objects, Box<3>{pl.world(lo), pl.world(hi)}, rng);
+                pushObject(objects, Box<3>{pl.world(lo), pl.world(hi)}, rng);
             }
         }
         addRandomObjects(rng, grid, sd::chance(rng, 0.5), sd::uniformInt(rng, 0, 10), objects);
@@ -543,7 +337,7 @@ TEST_CASE("stress3d: objects much smaller than a voxel and much larger than the 
                 const Vec3 d = 0.5 * (bb.min + bb.max) - c.position;
                 if (lengthSquared<3>(d) > 0) c.direction = d, c.up = upFor(rng, d);
             }
-            checkFrame(culler, objects, c, where(tinyScene ? "tiny objects" : "huge objects", seed, cam), tally);
+            checkFrame(culler, objects, c, frameLabel(tinyScene ? "tiny objects" : "huge objects", seed, cam), tally);
         }
     }
     tally.print("tiny and huge objects");
@@ -561,7 +355,7 @@ TEST_CASE("stress3d: world coordinates around 1e6 and tiny voxels", "[stress3d]"
         {{1e6, 1e6, 1e6}, 1e-3},        {{1e6, -1e6, 1e6}, 0x1.0p-10}, {{-1e6, 3e5, 1e6}, 1.0},
         {{123456.789, -987654.321, 5e5}, 1e-3}, {{1e6 + 0.5, 1e6, -1e6}, 0x1.0p-12}, {{1e6, 1e6, 1e6}, 1e3},
     };
-    Tally tally;
+    Tally tally(kCheck);
     for (std::uint64_t seed = 401; seed <= 490; ++seed) {
         std::mt19937_64 rng(seed);
         const Frame f = frames[std::size_t(seed) % frames.size()];
@@ -576,7 +370,7 @@ TEST_CASE("stress3d: world coordinates around 1e6 and tiny voxels", "[stress3d]"
                                          upFor(rng, dir), sd::pick(rng, std::vector<double>{90, 60, 1, 120, 45}),
                                          sd::pick(rng, kAspects),
                                          sd::chance(rng, 0.15) ? f.voxel * sd::uniform(rng, 2, 30) : kInf);
-            checkFrame(culler, objects, c, where("large offsets and tiny voxels", seed, cam), tally, f.origin);
+            checkFrame(culler, objects, c, frameLabel("large offsets and tiny voxels", seed, cam), tally, f.origin);
         }
     }
     tally.print("large offsets, tiny voxels");
@@ -588,7 +382,7 @@ TEST_CASE("stress3d: world coordinates around 1e6 and tiny voxels", "[stress3d]"
 TEST_CASE("stress3d: extreme fields of view and aspects", "[stress3d]") {
     const std::vector<double> fovs = {0.01, 1, 120, 179.9};
     const std::vector<double> aspects = {0.05, 20, 1};
-    Tally tally;
+    Tally tally(kCheck);
     for (std::uint64_t seed = 501; seed <= 540; ++seed) {
         std::mt19937_64 rng(seed);
         const GridGeometry3 grid = exactGrid(rng, 4, 20);
@@ -605,7 +399,7 @@ TEST_CASE("stress3d: extreme fields of view and aspects", "[stress3d]") {
                                          sd::chance(rng, 0.2) ? grid.voxelSize() * sd::uniform(rng, 0.5, 20) : kInf);
                 if ((fov < 2 || aspect < 0.1) && sd::chance(rng, 0.7)) aimAtObject(rng, cam, objects);
                 checkFrame(culler, objects, cam,
-                           where("fov " + std::to_string(fov) + " aspect " + std::to_string(aspect), seed, camera++), tally);
+                           frameLabel("fov " + std::to_string(fov) + " aspect " + std::to_string(aspect), seed, camera++), tally);
             }
     }
     tally.print("extreme fields of view and aspects");
