@@ -1,0 +1,57 @@
+// Culler<D>::Impl, the occlusion buffer's pass (OcclusionBuffer2D.hpp, OcclusionBuffer3D.hpp): after the
+// grid traversal, the grid's PVS is tested nearest first against an image of the objects kept so far, so
+// clouds of objects smaller than a voxel, which leave O empty, still hide what is behind them. Only the
+// reported PVS shrinks (CullerOptions::occlusionBufferRows, occlusionBufferBins).
+#include "CullerImpl.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+namespace rgvc {
+
+/// The occlusion buffer's pass over the grid's PVS (OcclusionBuffer3D.hpp): nearest first, each object
+/// with a current placement is tested against the image of the nearer ones kept, and drawn into it when
+/// it stays. Shapes are grown (tests) or shrunk (drawing) by their conversion slack and the camera's.
+/// Parked objects have no current placement: they stay and occlude nothing. Only result.pvs changes.
+template <int D> template <class View> void Culler<D>::Impl::refineWithBuffer(const View& view, CullStats& st) {
+    {
+        const auto t0 = std::chrono::steady_clock::now();
+        if (!occlusionBuffer.begin(view, Traits::bufferSize(options))) return;
+        // One pass over the records (large, scattered: each read is a cache miss) copies what the buffer
+        // needs; the sort then moves 16-byte keys, and the test-and-draw pass reads the copies in order.
+        bufferOrder.clear();
+        bufferShapes.clear();
+        for (ObjectSlot slot : pvsSlots) {
+            const Record& r = records[slot];
+            if (r.state != State::Tracked && r.state != State::Static) continue;
+            const double slack = grid.conversionSlack(r.at.worldMagnitude) + view.slack();
+            bufferOrder.push_back({occlusionBuffer.nearestDistance(r.at.local, slack), std::uint32_t(bufferShapes.size())});
+            bufferShapes.push_back({r.at.local, slack, slot});
+        }
+        std::sort(bufferOrder.begin(), bufferOrder.end());
+        std::uint32_t removed = 0;
+        for (const auto& [distance, index] : bufferOrder) {
+            const BufferShape& b = bufferShapes[index];
+            if (occlusionBuffer.hidden(b.shape, b.slack, distance)) {
+                pvsStamp[b.slot] = 0; // marks it for removal below; the grid's verdict (lastPvsFrame) stays
+                ++removed;
+            } else {
+                occlusionBuffer.draw(b.shape, b.slack);
+            }
+        }
+        if (removed != 0) {
+            result.pvs.clear();
+            for (ObjectSlot slot : pvsSlots)
+                if (pvsStamp[slot] == frame) result.pvs.push_back(records[slot].id);
+                else pvsStamp[slot] = frame; // back to "in this frame's grid PVS"
+        }
+        st.bufferTested = occlusionBuffer.stats().tested;
+        st.bufferHidden = removed;
+        st.bufferMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
+}
+
+template void Culler<2>::Impl::refineWithBuffer<ViewWedge>(const ViewWedge&, CullStats&);
+template void Culler<3>::Impl::refineWithBuffer<ViewFrustum>(const ViewFrustum&, CullStats&);
+
+} // namespace rgvc

@@ -1,0 +1,171 @@
+// Culler<D>::Impl, the object table: each object's placement (converted once to voxel units), its
+// footprint in I and O (RowFootprint: a move writes only the difference), and which of the states it is in
+// (Static, Tracked, Hidden, Parked; CullerImpl.hpp), with the sets and the list of objects reaching outside
+// the grid kept in step. Also the per-frame placement query (fetch).
+#include "CullerImpl.hpp"
+
+#include "rgvc/grid/ConservativeRaster.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rgvc {
+
+template <int D> auto Culler<D>::Impl::makePlacement(const Shape<D>& world) const -> Placement {
+    Placement p;
+    p.world = world;
+    const Box<D> wb = boundsOf<D>(world);
+    for (int a = 0; a < D; ++a)
+        p.worldMagnitude = std::max(p.worldMagnitude, std::max(std::abs(wb.min[a]), std::abs(wb.max[a])));
+    p.local = toLocal<D>(world, grid);
+    p.localBounds = boundsOf<D>(p.local);
+    p.outsideGrid = extendsOutsideGrid<D>(p.local, grid.resolution());
+    return p;
+}
+
+/// Puts the object at its stored placement into I and O (sign > 0), or takes it out (sign < 0).
+template <int D> void Culler<D>::Impl::rasterize(ObjectSlot slot, int sign) {
+    RowFootprint& f = footprints[slot];
+    if (sign > 0) {
+        buildFootprint(records[slot].at, f);
+        writes += f.write(storage, slot, +1);
+    } else {
+        writes += f.write(storage, slot, -1);
+        f.release();
+    }
+}
+
+template <int D> void Culler<D>::Impl::buildFootprint(const Placement& p, RowFootprint& f) const {
+    // The slack covers the world-to-voxel rounding of the object's coordinates (and the grid's).
+    f.build<D>(p.local, grid, grid.conversionSlack(p.worldMagnitude));
+}
+
+/// Moves a rasterized object by writing only the difference between its old (cached) and new
+/// footprints: a sphere that moves a fraction of a voxel changes a thin shell of its footprint, or
+/// nothing at all (profiling the moving-spheres benchmark showed remove-all/add-all updates, and then
+/// per-voxel footprint lists, as its largest costs).
+template <int D> void Culler<D>::Impl::moveRasterized(ObjectSlot slot, const Placement& p) {
+    if (&p == &records[slot].at) return; // the stored placement: already rasterized
+    buildFootprint(p, nextFootprint);
+    writes += footprints[slot].moveTo(storage, slot, nextFootprint);
+    records[slot].at = p;
+    syncOutside(slot);
+}
+
+/// Objects held in O and I that reach outside the grid are also tested against the view region.
+template <int D> void Culler<D>::Impl::syncOutside(ObjectSlot slot) {
+    const Record& r = records[slot];
+    const bool want = r.alive && r.at.outsideGrid && (r.state == State::Tracked || r.state == State::Static);
+    if (want != SlotSet::contains(slot, outsidePos)) {
+        if (want) outside.insert(slot, outsidePos);
+        else outside.erase(slot, outsidePos);
+    }
+}
+
+template <int D> SlotSet* Culler<D>::Impl::setOf(State s) {
+    switch (s) {
+    case State::Tracked: return &tracked;
+    case State::Hidden: return &hidden;
+    case State::Parked: return &parked;
+    default: return nullptr;
+    }
+}
+
+template <int D> void Culler<D>::Impl::enter(ObjectSlot slot, State s) {
+    records[slot].state = s;
+    if (SlotSet* set = setOf(s)) set->insert(slot, statePos);
+    syncOutside(slot);
+}
+
+/// Takes an object out of whatever holds it (O and I, T, or the parked list).
+template <int D> void Culler<D>::Impl::detach(ObjectSlot slot) {
+    Record& r = records[slot];
+    if (r.state == State::Tracked || r.state == State::Static) rasterize(slot, -1);
+    if (r.state == State::Hidden) {
+        writes += tbvs.erase(slot, r.tbv, options.tbvDiscretization);
+        ++r.tbvGeneration; // its expiry entry, if any, is now stale
+    }
+    if (SlotSet* set = setOf(r.state)) set->erase(slot, statePos);
+    r.state = State::Detached;
+    syncOutside(slot);
+}
+
+template <int D> void Culler<D>::Impl::adopt(ObjectSlot slot, const Placement& p) {
+    if (&p != &records[slot].at) records[slot].at = p;
+}
+
+template <int D> void Culler<D>::Impl::attachTracked(ObjectSlot slot, const Placement& p) {
+    adopt(slot, p);
+    rasterize(slot, +1);
+    enter(slot, State::Tracked);
+}
+
+template <int D>
+void Culler<D>::Impl::attachHidden(ObjectSlot slot, const Placement& p, const TbvRegion<D>& region, std::uint64_t expiry) {
+    Record& r = records[slot];
+    adopt(slot, p);
+    r.tbv = region;
+    r.tbvExpiry = expiry;
+    writes += tbvs.insert(slot, region, options.tbvDiscretization);
+    if constexpr (D == 3) { // the brick tree must see the TBV (BrickPyramid: marking is eager)
+        IVec3 lo, hi;
+        if (tbvVoxelBox3D(region, grid.resolution(), lo, hi)) storage.bricks().markOccupied(lo, hi);
+    }
+    expiring[expiry % expiring.size()].emplace_back(slot, r.tbvGeneration);
+    enter(slot, State::Hidden);
+}
+
+/// The object's placement now, asking the application at most once per frame: the stored placement
+/// (no query, or asked already) or a fresh one, valid until the next fetch. Null when the query threw
+/// or returned an invalid shape: the failure is kept to be reported once the frame is done.
+template <int D> auto Culler<D>::Impl::fetch(ObjectSlot slot, CullStats& st) -> const Placement* {
+    Record& r = records[slot];
+    if (query == nullptr || r.placedFrame == frameIndex) return &r.at;
+    if (r.failedFrame == frameIndex) return nullptr; // asked once this frame already
+    ++st.placementQueries;
+    try {
+        Shape<D> s = (*query)(r.id);
+        validateShape<D>(s, [&] { return "object " + std::to_string(r.id) + ".shape"; });
+        fetched = makePlacement(s);
+    } catch (const InvalidInput& e) {
+        if (invalidField.empty() && !queryException) {
+            invalidField = e.field();
+            invalidWhat = std::string(e.what()).substr(e.field().size() + 2);
+        }
+        r.failedFrame = frameIndex;
+        return nullptr;
+    } catch (...) {
+        if (invalidField.empty() && !queryException) queryException = std::current_exception();
+        r.failedFrame = frameIndex;
+        return nullptr;
+    }
+    r.placedFrame = frameIndex;
+    return &fetched;
+}
+
+template auto Culler<2>::Impl::makePlacement(const Shape<2>&) const -> Placement;
+template void Culler<2>::Impl::rasterize(ObjectSlot, int);
+template void Culler<2>::Impl::buildFootprint(const Placement&, RowFootprint&) const;
+template void Culler<2>::Impl::moveRasterized(ObjectSlot, const Placement&);
+template void Culler<2>::Impl::syncOutside(ObjectSlot);
+template SlotSet* Culler<2>::Impl::setOf(State);
+template void Culler<2>::Impl::enter(ObjectSlot, State);
+template void Culler<2>::Impl::detach(ObjectSlot);
+template void Culler<2>::Impl::adopt(ObjectSlot, const Placement&);
+template void Culler<2>::Impl::attachTracked(ObjectSlot, const Placement&);
+template void Culler<2>::Impl::attachHidden(ObjectSlot, const Placement&, const TbvRegion<2>&, std::uint64_t);
+template auto Culler<2>::Impl::fetch(ObjectSlot, CullStats&) -> const Placement*;
+template auto Culler<3>::Impl::makePlacement(const Shape<3>&) const -> Placement;
+template void Culler<3>::Impl::rasterize(ObjectSlot, int);
+template void Culler<3>::Impl::buildFootprint(const Placement&, RowFootprint&) const;
+template void Culler<3>::Impl::moveRasterized(ObjectSlot, const Placement&);
+template void Culler<3>::Impl::syncOutside(ObjectSlot);
+template SlotSet* Culler<3>::Impl::setOf(State);
+template void Culler<3>::Impl::enter(ObjectSlot, State);
+template void Culler<3>::Impl::detach(ObjectSlot);
+template void Culler<3>::Impl::adopt(ObjectSlot, const Placement&);
+template void Culler<3>::Impl::attachTracked(ObjectSlot, const Placement&);
+template void Culler<3>::Impl::attachHidden(ObjectSlot, const Placement&, const TbvRegion<3>&, std::uint64_t);
+template auto Culler<3>::Impl::fetch(ObjectSlot, CullStats&) -> const Placement*;
+
+} // namespace rgvc
