@@ -111,6 +111,17 @@ template <int D> void Culler<D>::Impl::traverseBricks(const ViewFrustum& view, C
             // Revealing erases from the lists: collected first, revealed after.
             for (ObjectSlot slot : revealScratch)
                 if (records[slot].state == State::Hidden) revealDuringTraversal(slot, st);
+        },
+        [&](VoxelKey seed, const IVec3& lo, const IVec3& hi) {
+            // A box object holding the seed that contains the whole fused box (its voxel range lo..hi).
+            bool inside = false;
+            storage.forEachId(seed, [&](ObjectSlot slot) {
+                const Record& r = records[slot];
+                const auto* b = std::get_if<Box<3>>(&r.at.local);
+                if (inside || b == nullptr || (r.state != State::Tracked && r.state != State::Static)) return;
+                inside = glm::all(glm::lessThanEqual(b->min, Vec3(lo))) && glm::all(glm::greaterThanEqual(b->max, Vec3(hi + 1)));
+            });
+            return inside;
         });
     for (std::size_t i = 0; i < outside.size(); ++i) classify(outside[i], view);
     st.layers = 0;

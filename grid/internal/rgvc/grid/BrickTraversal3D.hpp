@@ -74,10 +74,13 @@ public:
     ///                   hold a TBV, called once after its ids, with the brick's voxels that touch the
     ///                   frustum (slice words: bit x + 8 y of slice z, brick-local); the caller tests those
     ///                   that hold a TBV against the image.
-    template <class MayHoldTbv, class OnVoxel, class OnTbvs>
+    /// @param insideObject bool(VoxelKey seed, IVec3 lo, IVec3 hi): whether the voxel box lo..hi (inclusive)
+    ///                   grown from opaque voxel `seed` lies inside one object the caller will draw itself
+    ///                   (a box object holding the seed): that fused box then adds nothing and is not drawn.
+    template <class MayHoldTbv, class OnVoxel, class OnTbvs, class InsideObject>
     BrickTraversalStats3D run(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum,
                               OcclusionBuffer3D* image, std::uint32_t stamp, MayHoldTbv&& mayHoldTbv,
-                              OnVoxel&& onVoxel, OnTbvs&& onTbvs) {
+                              OnVoxel&& onVoxel, OnTbvs&& onTbvs, InsideObject&& insideObject) {
         BrickTraversalStats3D st;
         BrickPyramid<3>& tree = storage.bricks();
         const IVec3 res = grid.resolution();
@@ -106,7 +109,7 @@ public:
                 continue;
             }
             if (n.level == 0) {
-                visitBrick(grid, storage, frustum, image, n.c, lo, hi, stamp, mayHoldTbv(n.c), onVoxel, onTbvs, st);
+                visitBrick(grid, storage, frustum, image, n.c, lo, hi, stamp, mayHoldTbv(n.c), onVoxel, onTbvs, insideObject, st);
                 continue;
             }
             // Children nearest first: pushed in reverse order, so near ^ 0 pops first.
@@ -131,10 +134,10 @@ private:
         IVec3 c;
     };
 
-    template <class OnVoxel, class OnTbvs>
+    template <class OnVoxel, class OnTbvs, class InsideObject>
     void visitBrick(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D* image,
                     const IVec3& brick, const IVec3& lo, const IVec3& hi, std::uint32_t stamp, bool tbvHere,
-                    OnVoxel& onVoxel, OnTbvs& onTbvs, BrickTraversalStats3D& st) {
+                    OnVoxel& onVoxel, OnTbvs& onTbvs, InsideObject& insideObject, BrickTraversalStats3D& st) {
         ++st.bricksVisited;
         const bool hasFar = !std::isinf(frustum.far());
         bool anyIds = false;
@@ -162,7 +165,7 @@ private:
                 if (image == nullptr || opaque == 0) continue;
                 for (std::int32_t x = r.u0; x <= r.u1; ++x)
                     if (((opaque >> (x - lo.x)) & 1) != 0 && !storage.used(VoxelKey(r.key + std::uint32_t(x)), stamp))
-                        drawFusedBox(grid, storage, frustum, *image, IVec3{x, y, z}, stamp, st);
+                        drawFusedBox(grid, storage, frustum, *image, IVec3{x, y, z}, stamp, insideObject, st);
             }
         // Pass 2: visit the spans; then the brick's TBVs, all at once when the caller can.
         std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0}; // the visited voxels, as slice words
@@ -199,8 +202,9 @@ private:
     /// corner's silhouette is inside one of them as long as the shared voxels span at least a pixel).
     /// Its voxels are marked used so that they start no other box. Drawn shrunk by the camera's slack
     /// (O already keeps the objects' conversion slack: its voxels are inside by that margin).
+    template <class InsideObject>
     void drawFusedBox(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D& image,
-                      const IVec3& v, std::uint32_t stamp, BrickTraversalStats3D& st) {
+                      const IVec3& v, std::uint32_t stamp, InsideObject& insideObject, BrickTraversalStats3D& st) {
         const IVec3 res = grid.resolution();
         auto opaqueAt = [&](std::int32_t x, std::int32_t y, std::int32_t z) {
             return storage.opaque(grid.linearIndex(IVec3{x, y, z}));
@@ -227,6 +231,10 @@ private:
                 const VoxelKey row = grid.linearIndex(IVec3{0, y, z});
                 for (std::int32_t x = lo.x; x <= hi.x; ++x) storage.setUsed(VoxelKey(row + std::uint32_t(x)), stamp);
             }
+        // A box inside one box object (a wall, a building) repeats that object, which is drawn when the
+        // brick's ids are classified (or is hidden, and then so is this box): the room's six walls and
+        // the game world's buildings were drawn twice.
+        if (insideObject(grid.linearIndex(v), lo, hi)) return;
         const Box<3> box{Vec3(lo), Vec3(hi + 1)};
         const Vec3 half = 0.5 * Vec3(hi + 1 - lo);
         if (!image.spans(std::sqrt(lengthSquared<3>(half)), image.nearestDistance(box, 0), kMinOccluderPixels)) return;
