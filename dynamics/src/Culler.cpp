@@ -265,12 +265,8 @@ template <int D> VoxelState Culler<D>::voxelState(const IVec<D>& v) const {
     return s;
 }
 
-template void Culler<2>::Impl::scheduleCaps(const CullStats&);
-template void Culler<3>::Impl::scheduleCaps(const CullStats&);
-template void Culler<2>::Impl::nextFrame();
-template void Culler<3>::Impl::nextFrame();
-template const CullResult& Culler<2>::Impl::cull(const Camera<2>&, const PlacementQuery<2>*);
-template const CullResult& Culler<3>::Impl::cull(const Camera<3>&, const PlacementQuery<3>*);
+// Culler<D>'s explicit instantiation also instantiates the members of its member class Impl that this
+// file defines (cull, scheduleCaps, nextFrame); naming them again is a duplicate for clang.
 template class Culler<2>;
 template class Culler<3>;
 
