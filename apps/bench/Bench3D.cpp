@@ -25,7 +25,9 @@
 //                [--large-spheres N] [--tbv boundary|shell|filled|off] [--tbv-max-growth G] [--buffer-rows R]
 //
 // The full pipeline is the grid followed by the occlusion buffer (CullerOptions::occlusionBufferRows, 64
-// rows unless --buffer-rows says otherwise); "grid only" is the same culler without the buffer.
+// rows unless --buffer-rows says otherwise); "grid only" is the same culler without the buffer. The first
+// variant is the library's default (the brick tree with its occlusion image, CullerOptions::hierarchical);
+// the "shells" ones are the paper's per-voxel shell traversal; the VFC baseline walks the brick tree.
 // --tbv picks how the cullers hold hidden moving spheres (CullerOptions::tbvDiscretization; off: no TBVs,
 // every sphere stays in O and I); --tbv-max-growth sets CullerOptions::tbvMaxGrowth (0: the default). The spheres are moved with updateObject (push): a hidden sphere whose
 // new placement stays inside its TBV costs O(1).
@@ -59,14 +61,15 @@ struct Variant {
     CullerOptions options;
 };
 
-constexpr int kVariants = 5;
+constexpr int kVariants = 6;
 // Not const: --tbv sets the temporal-bounding-volume options of every variant, --buffer-rows the rows of
 // the occlusion buffer of those that have one.
 Variant kVariantList[kVariants] = {
-    {"rgvc (grid + occlusion buffer)", {}},
-    {"rgvc, caps every frame + buffer", {.adaptiveCaps = false}},
-    {"rgvc, grid only (no buffer)", {.occlusionBufferRows = 0, .adaptiveCaps = false}},
-    {"rgvc, caps k-1 every frame + buf", {.occluderExtension = false, .adaptiveCaps = false}},
+    {"rgvc: brick tree, image + buffer", {}},
+    {"shells (adaptive caps) + buffer", {.hierarchical = false}},
+    {"shells, caps every frame + buffer", {.adaptiveCaps = false, .hierarchical = false}},
+    {"shells, grid only (no buffer)", {.occlusionBufferRows = 0, .adaptiveCaps = false, .hierarchical = false}},
+    {"shells, caps k-1 every frame + buf", {.occluderExtension = false, .adaptiveCaps = false, .hierarchical = false}},
     {"grid VFC only (baseline)", {.occlusion = false, .occluderExtension = false, .occlusionBufferRows = 0}}};
 
 /// The benchmark's world: `spheres` spheres in 100 x 60 x 100 units (or `world` units), culled on a
