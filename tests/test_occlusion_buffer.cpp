@@ -190,6 +190,72 @@ TEST_CASE("buffer: random scenes against the exact reference", "[buffer]") {
     CHECK(hiddenCount > 0);
 }
 
+TEST_CASE("buffer: room corners of touching boxes seen at wide views against the exact reference", "[buffer]") {
+    // Seam fusion (OcclusionSeams3D.cpp) covers pixels that only the union of two or three boxes covers.
+    // Here: the three walls of a room's corner (slabs meeting at a point, overlapping there or just
+    // meeting, some cut into tiles that share faces), occludees behind them (some poking past a wall's
+    // end) and in front, cameras inside the corner's octant looking towards it with 40-170 degree views.
+    // Every object the buffer hides must be one the reference does not see, and the fusion must run.
+    const std::uint64_t seed = 90210;
+    std::mt19937_64 rng(seed);
+    int tested = 0, hiddenCount = 0, misses = 0;
+    std::uint64_t fused = 0;
+    for (int n = 0; n < 600; ++n) {
+        const Vec3 p{sd::uniform(rng, 30, 70), sd::uniform(rng, 30, 70), sd::uniform(rng, 30, 70)};
+        const double t = sd::uniform(rng, 0.3, 2.0), len = sd::uniform(rng, 8, 25);
+        const double past = n % 2 == 0 ? t : 0.0; // walls overlapping at the corner, or meeting face to face
+        std::vector<Shape<3>> objects;
+        for (int a = 0; a < 3; ++a) {
+            Vec3 lo = p - past, hi = p + len;
+            lo[a] = p[a] - t;
+            hi[a] = p[a];
+            const int tiles = 1 + n % 3; // cut along the next axis into tiles sharing their faces
+            const int b = (a + 1) % 3;
+            for (int k = 0; k < tiles; ++k) {
+                Vec3 l = lo, h = hi;
+                l[b] = lo[b] + (hi[b] - lo[b]) * k / tiles;
+                h[b] = lo[b] + (hi[b] - lo[b]) * (k + 1) / tiles;
+                objects.push_back(Box<3>{l, h});
+            }
+        }
+        const std::size_t walls = objects.size();
+        for (int i = 0; i < 24; ++i) { // behind the walls near the corner, a few in front
+            const bool front = i % 6 == 0;
+            Vec3 c;
+            for (int a = 0; a < 3; ++a) c[a] = p[a] + (front ? sd::uniform(rng, 1, len - 1) : sd::uniform(rng, -6, len));
+            if (!front) c[i % 3] = p[i % 3] - t - sd::uniform(rng, 0.2, 5);
+            const double r = sd::logUniform(rng, 0.1, 1.5);
+            objects.push_back(i % 2 == 0 ? Shape<3>(Ball<3>{c, r}) : Shape<3>(Box<3>{c - r, c + r}));
+        }
+        const Vec3 eye = p + Vec3{sd::uniform(rng, 1, len - 1), sd::uniform(rng, 1, len - 1), sd::uniform(rng, 1, len - 1)};
+        Vec3 dir = p - eye;
+        for (int a = 0; a < 3; ++a) dir[a] += sd::uniform(rng, -0.3, 0.3) * std::sqrt(lengthSquared<3>(p - eye));
+        Camera3 cam = lookingAlongZ(eye, sd::uniform(rng, 40, 170), sd::uniform(rng, 0.5, 2));
+        cam.direction = dir;
+        const ViewFrustum view(cam, kUnitGrid);
+        OcclusionBuffer3D buffer;
+        const int rows = std::array<int, 3>{16, 64, 128}[n % 3];
+        REQUIRE(buffer.begin(view, rows));
+        const std::vector<bool> hidden = bufferPass(buffer, objects, view.slack());
+        fused += buffer.stats().pixelsFused;
+        const std::vector<bool> seen = ref::visible3D(objects, cam);
+        for (std::size_t i = walls; i < objects.size(); ++i) {
+            ++tested;
+            hiddenCount += hidden[i];
+            if (hidden[i] && seen[i]) {
+                ++misses;
+                UNSCOPED_INFO("seed " << seed << " scene " << n << " object " << i << " rows " << rows);
+                CHECK_FALSE((hidden[i] && seen[i]));
+            }
+        }
+    }
+    std::printf("[buffer] room corners: %d occludees, %d hidden by the buffer, %llu pixels covered by fusion, %d misses\n",
+                tested, hiddenCount, (unsigned long long)fused, misses);
+    CHECK(misses == 0);
+    CHECK(fused > 0);
+    CHECK(hiddenCount > tested / 2);
+}
+
 TEST_CASE("buffer: sphere clouds against the exact reference", "[buffer]") {
     // The case the buffer is for: many small spheres (below two voxels) in front of the camera, where the
     // grid's O is empty. Checks misses and that a good part of what the reference does not see is hidden.
