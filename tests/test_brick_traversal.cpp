@@ -31,18 +31,15 @@ using namespace rgvc;
 namespace ref = rgvc::reference;
 namespace rs = rgvc::reference::seeded;
 using rgvc::culler_test::contains;
+using rgvc::culler_test::kInf;
 using rgvc::culler_test::kPi;
+using rgvc::culler_test::makeCamera;
 
 namespace {
 
 Camera3 lookAt(const Vec3& pos, double yawDeg, double pitchDeg, double fov, double aspect) {
     const double y = yawDeg * kPi / 180, p = pitchDeg * kPi / 180;
-    Camera3 c;
-    c.position = pos;
-    c.direction = {std::sin(y) * std::cos(p), std::sin(p), std::cos(y) * std::cos(p)};
-    c.fovDeg = fov;
-    c.aspect = aspect;
-    return c;
+    return makeCamera(pos, {std::sin(y) * std::cos(p), std::sin(p), std::cos(y) * std::cos(p)}, fov, kInf, aspect);
 }
 
 enum class WallKind { SixBoxes, ThickFractional, UnitBoxes };

@@ -29,7 +29,8 @@ template <int D> template <class View> void Culler<D>::Impl::classify(ObjectSlot
     const Box<D> b = r.at.localBounds;
     if (!view.touchesBox(b.min - slack, b.max + slack)) return;
     if constexpr (D == 3) {
-        if (imageActive && traversalImage.hidden(r.at.local, slack)) {
+        const double nearest = imageActive ? traversalImage.nearestDistance(r.at.local, slack) : 0.0;
+        if (imageActive && traversalImage.hidden(r.at.local, slack, nearest)) {
             ++result.stats.imageHidden;
             return;
         }
@@ -42,8 +43,7 @@ template <int D> template <class View> void Culler<D>::Impl::classify(ObjectSlot
         // floors, buildings side by side), and the seams between them fuse only if both are drawn
         // (test_brick_traversal's rooms of unit boxes seen at 138 degrees let an object through at 16).
         const double minPixels = std::holds_alternative<Box<D>>(r.at.local) ? 4.0 : kMinTraversalOccluderPixels;
-        if (imageActive && traversalImage.spans(boundingBall<D>(r.at.local).radius,
-                                                traversalImage.nearestDistance(r.at.local, 0), minPixels))
+        if (imageActive && traversalImage.spans(boundingBall<D>(r.at.local).radius, nearest, minPixels))
             traversalImage.draw(r.at.local, slack);
     } else {
         addToPvs(slot);

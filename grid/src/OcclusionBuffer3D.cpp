@@ -30,7 +30,8 @@ bool OcclusionBuffer3D::begin(const ViewFrustum& view, int rows) {
     m_pixelH = 2 * m_halfH / m_rows;
     m_depth.assign(std::size_t(m_rows) * std::size_t(m_cols), kInf);
     m_partial.assign(std::size_t(m_rows) * std::size_t(m_cols), 0);
-    m_partialCorners.assign(std::size_t(m_rows) * std::size_t(m_cols), 0);
+    // A pixel's corner bits are read only after its slot is set, which writes them: sized, not cleared.
+    m_partialCorners.resize(std::size_t(m_rows) * std::size_t(m_cols));
     m_seamBoxes.clear();
     if (m_latticeW != m_halfW || m_latticeH != m_halfH || m_cornerX.size() != std::size_t(m_cols + 1) ||
         m_cornerY.size() != std::size_t(m_rows + 1)) {
@@ -272,9 +273,9 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
     // it cannot succeed: a point of the box in view whose pixel is not covered nearer than that point
     // belongs to some part at every level, and that part's test would fail on that pixel; the box's
     // centre is checked first.
-    if (!canHide(0.5 * (lo + hi))) return false;
-    const auto* ball = std::get_if<Ball<3>>(&shape);
     const Vec3 centre = 0.5 * (lo + hi);
+    if (!canHide(centre)) return false;
+    const auto* ball = std::get_if<Ball<3>>(&shape);
     if (!hiddenParts(lo, hi, 2, ball != nullptr ? &centre : nullptr, ball != nullptr ? ball->radius + grow : 0.0)) return false;
     ++m_stats.hidden;
     return true;
