@@ -334,6 +334,8 @@ TEST_CASE("Culler2D::addObject rejects bad objects and changes nothing", "[error
     }
     for (double speed : {-1.0, -1e-300, kNaN, kInf, -kInf})
         CHECK(fieldOf([&] { culler.addObject({77, Ball<2>{{5, 5}, 1}, false, speed}); }) == "object 77.max_speed");
+    for (double inset : {-1.0, -1e-300, kNaN, kInf, -kInf})
+        CHECK(fieldOf([&] { culler.addObject({77, Ball<2>{{5, 5}, 1}, false, 1, inset}); }) == "object 77.occluder_inset");
     // Duplicate ids, whatever the new shape (valid or not).
     CHECK(fieldOf([&] { culler.addObject({1, Ball<2>{{5, 5}, 1}, true, 0}); }) == "object 1.id");
     CHECK(fieldOf([&] { culler.addObject({ObjectId(1) << 50, Box<2>{{0, 0}, {1, 1}}, false, 0}); }) ==

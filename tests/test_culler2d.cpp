@@ -100,6 +100,25 @@ TEST_CASE("culler2d: hand-made degenerate scenes", "[culler]") {
     }
 }
 
+TEST_CASE("culler2d: occluderInset: O and the buffer use the shape shrunk by the inset, I the shape", "[culler]") {
+    // A wall 1 voxel thick (box or polygon) hides a circle behind it; inset by more than half its
+    // thickness it occludes nothing, and the circle must be reported. The wall stays reported.
+    GridGeometry2 grid({0, 0}, 1.0, {64, 64});
+    const Camera2 cam = makeCamera({5.5, 32.5}, {1, 0}, 60);
+    const Shape<2> walls[] = {Box<2>{{12, 2}, {13, 62}}, ConvexPolygon{{{12, 2}, {13, 2}, {13, 62}, {12, 62}}}};
+    for (const Shape<2>& wall : walls)
+        for (const auto& [inset, hides] : {std::pair{0.0, true}, std::pair{0.2, true}, std::pair{0.6, false}}) {
+            INFO("wall " << wall.index() << ", inset " << inset);
+            Culler2D culler(grid);
+            culler.addObject({1, wall, true, 0, inset});
+            culler.addObject({2, Ball<2>{{24, 32}, 1.5}, true});
+            const CullResult& r = culler.cull(cam);
+            CHECK(contains(r.pvs, ObjectId(1)));
+            CHECK(contains(r.pvs, ObjectId(2)) == !hides);
+            CHECK(culler.voxelState({12, 32}).opaque == (inset == 0));
+        }
+}
+
 TEST_CASE("culler2d: no misses on mixed random scenes", "[culler]") {
     Tally t = runRandomScenes("mixed", 1, 1500, 3, ref::SceneOptions{});
     REQUIRE(t.frames == 4500);

@@ -24,6 +24,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -129,6 +130,29 @@ TEST_CASE("culler3d: occluder fusion: a wall of small boxes sharing faces hides 
                 }
             }
     }
+}
+
+TEST_CASE("culler3d: occluderInset: O and the images use the shape shrunk by the inset, I the shape", "[culler3d]") {
+    // A wall 1 voxel thick hides a sphere behind it. Inset by more than half its thickness it occludes
+    // nothing (an occludee only: a window), and the sphere must be reported; a wall 3 voxels thick inset
+    // by 0.5 still hides it. Every variant is checked against the reference as usual (with the wall's
+    // full shape, which can only see less), and the wall itself stays reported (its I is whole).
+    GridGeometry3 grid({0, 0, 0}, 1.0, {32, 32, 32});
+    const Camera3 cam = makeCamera({5.5, 16.5, 16.5}, {1, 0, 0}, 60);
+    for (bool hierarchical : {true, false})
+        for (const auto& [thickness, inset, hides] :
+             {std::tuple{1.0, 0.0, true}, std::tuple{1.0, 0.6, false}, std::tuple{3.0, 0.5, true}, std::tuple{3.0, 1.6, false}}) {
+            INFO("hierarchical " << hierarchical << ", thickness " << thickness << ", inset " << inset);
+            Culler3D culler(grid, CullerOptions{.hierarchical = hierarchical});
+            culler.addObject({1, Box<3>{{12, 2, 2}, {12 + thickness, 30, 30}}, true, 0, inset});
+            culler.addObject({2, Ball<3>{{24, 16, 16}, 1.5}, true});
+            const CullResult& r = culler.cull(cam);
+            CHECK(contains(r.pvs, ObjectId(1)));
+            CHECK(contains(r.pvs, ObjectId(2)) == !hides);
+            // O holds the inset box only: the wall's outer voxel layer is not opaque.
+            CHECK(culler.voxelState({12, 16, 16}).opaque == (inset == 0));
+            CHECK(culler.voxelState({12, 16, 16}).hasIds);
+        }
 }
 
 TEST_CASE("culler3d: a wall across the whole view hides everything behind it at turned views", "[culler3d]") {

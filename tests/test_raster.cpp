@@ -289,3 +289,70 @@ TEST_CASE("Raster: world shapes at origin 1e6 with 1e-3 voxels", "[raster]") {
     CHECK(st.shapes > 1000);
     CHECK(st.inner > 1000);
 }
+
+// ---------------------------------------------------------------------------------------------------
+// insetShape: the occluder model of ObjectDesc::occluderInset (an erosion of the shape).
+
+namespace {
+/// Signed distance from p to the boundary of a counter-clockwise convex polygon, positive inside.
+double insideDistance(const std::vector<Vec2>& pts, const Vec2& p) {
+    double d = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0, n = pts.size(); i < n; ++i) {
+        const Vec2 e = pts[(i + 1) % n] - pts[i];
+        const double len = std::sqrt(lengthSquared<2>(e));
+        if (len > 0) d = std::min(d, cross2(e, p - pts[i]) / len);
+    }
+    return d;
+}
+} // namespace
+
+TEST_CASE("Raster: insetShape shrinks balls, boxes and convex polygons exactly", "[raster]") {
+    Shape<2> out;
+    REQUIRE(insetShape<2>(Ball<2>{{1, 2}, 3}, 0.5, out));
+    CHECK(std::get<Ball<2>>(out).radius == 2.5);
+    CHECK_FALSE(insetShape<2>(Ball<2>{{1, 2}, 3}, 3, out)); // nothing left
+    Shape<3> out3;
+    REQUIRE(insetShape<3>(Box<3>{{0, 0, 0}, {4, 2, 6}}, 0.5, out3));
+    CHECK(std::get<Box<3>>(out3).min == Vec3(0.5, 0.5, 0.5));
+    CHECK(std::get<Box<3>>(out3).max == Vec3(3.5, 1.5, 5.5));
+    CHECK_FALSE(insetShape<3>(Box<3>{{0, 0, 0}, {4, 1, 6}}, 0.5, out3)); // the thin axis closes
+    REQUIRE(insetShape<2>(Box<2>{{0, 0}, {4, 2}}, 0, out)); // 0: the shape itself
+    CHECK(std::get<Box<2>>(out).max == Vec2(4, 2));
+    // A square inset by 1 is the square of side 2.
+    Shape<2> sq = ConvexPolygon{{{0, 0}, {4, 0}, {4, 4}, {0, 4}}};
+    REQUIRE(insetShape<2>(sq, 1, out));
+    const auto& q = std::get<ConvexPolygon>(out).points;
+    CHECK(std::abs(signedArea(q) - 4) < 1e-12);
+
+    // Random convex polygons: every vertex of the inset lies at distance >= d inside the original (so the
+    // inset is contained: it is convex), and sampled points deeper than d lie in the inset.
+    Gen g(0x1A5E7ULL);
+    int checked = 0, vanished = 0;
+    for (int k = 0; k < 2000; ++k) {
+        INFO("seed 0x1A5E7, polygon " << k);
+        Shape<2> s = randomPolygon(g, {64, 64});
+        validateShape<2>(s, "p");
+        const auto& pts = std::get<ConvexPolygon>(s).points;
+        const Box<2> b = boundsOf<2>(s);
+        const double d = g.uni(0, 0.3) * std::max(b.max.x - b.min.x, b.max.y - b.min.y);
+        Shape<2> in;
+        if (!insetShape<2>(s, d, in)) {
+            ++vanished;
+            // Nothing deeper than d may exist: sample and check.
+            for (int t = 0; t < 200; ++t) {
+                const Vec2 p(g.uni(b.min.x, b.max.x), g.uni(b.min.y, b.max.y));
+                REQUIRE(insideDistance(pts, p) <= d + 1e-9 * (1 + d));
+            }
+            continue;
+        }
+        ++checked;
+        const auto& ip = std::get<ConvexPolygon>(in).points;
+        for (const Vec2& v : ip) REQUIRE(insideDistance(pts, v) >= d - 1e-9 * (1 + d));
+        for (int t = 0; t < 200; ++t) {
+            const Vec2 p(g.uni(b.min.x, b.max.x), g.uni(b.min.y, b.max.y));
+            if (insideDistance(pts, p) > d + 1e-7 * (1 + d)) REQUIRE(insideDistance(ip, p) >= -1e-9 * (1 + d));
+        }
+    }
+    CHECK(checked > 1000);
+    CHECK(vanished > 0);
+}

@@ -43,8 +43,8 @@ template <int D> template <class View> void Culler<D>::Impl::classify(ObjectSlot
         // floors, buildings side by side), and the seams between them fuse only if both are drawn
         // (test_brick_traversal's rooms of unit boxes seen at 138 degrees let an object through at 16).
         const double minPixels = std::holds_alternative<Box<D>>(r.at.local) ? 4.0 : kMinTraversalOccluderPixels;
-        if (imageActive && traversalImage.spans(boundingBall<D>(r.at.local).radius, nearest, minPixels))
-            traversalImage.draw(r.at.local, slack);
+        if (imageActive && r.at.occludes && traversalImage.spans(boundingBall<D>(r.at.local).radius, nearest, minPixels))
+            traversalImage.draw(*r.at.occluder(), slack);
     } else {
         addToPvs(slot);
     }

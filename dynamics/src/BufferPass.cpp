@@ -26,7 +26,7 @@ template <int D> template <class View> void Culler<D>::Impl::refineWithBuffer(co
             if (r.state != State::Tracked && r.state != State::Static) continue;
             const double slack = grid.conversionSlack(r.at.worldMagnitude) + view.slack();
             bufferOrder.push_back({occlusionBuffer.nearestDistance(r.at.local, slack), std::uint32_t(bufferShapes.size())});
-            bufferShapes.push_back({r.at.local, slack, slot});
+            bufferShapes.push_back({r.at.local, r.at.occluder(), slack, slot});
         }
         std::sort(bufferOrder.begin(), bufferOrder.end());
         std::uint32_t removed = 0;
@@ -35,8 +35,8 @@ template <int D> template <class View> void Culler<D>::Impl::refineWithBuffer(co
             if (occlusionBuffer.hidden(b.shape, b.slack, distance)) {
                 pvsStamp[b.slot] = 0; // marks it for removal below; the grid's verdict (lastPvsFrame) stays
                 ++removed;
-            } else {
-                occlusionBuffer.draw(b.shape, b.slack);
+            } else if (b.occluder != nullptr) {
+                occlusionBuffer.draw(*b.occluder, b.slack);
             }
         }
         if (removed != 0) {

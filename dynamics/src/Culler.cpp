@@ -174,9 +174,11 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
     if (m.slotOf.count(object.id)) throw InvalidInput(field + ".id", "duplicate id");
     if (!std::isfinite(object.maxSpeed) || object.maxSpeed < 0)
         throw InvalidInput(field + ".max_speed", "must be finite and >= 0");
+    if (!std::isfinite(object.occluderInset) || object.occluderInset < 0)
+        throw InvalidInput(field + ".occluder_inset", "must be finite and >= 0");
     Shape<D> shape = object.shape;
     validateShape<D>(shape, field);
-    typename Impl::Placement p = m.makePlacement(shape);
+    typename Impl::Placement p = m.makePlacement(shape, object.occluderInset);
 
     ObjectSlot slot;
     if (!m.freeSlots.empty()) {
@@ -195,6 +197,7 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
     r = typename Impl::Record{};
     r.id = object.id;
     r.maxSpeed = object.maxSpeed;
+    r.inset = object.occluderInset;
     r.alive = true;
     // A new object counts as a member of the last PVS: the next frame classifies it before it can be
     // hidden (the paper's first frame treats every object so).
@@ -213,9 +216,9 @@ template <int D> void Culler<D>::updateObject(ObjectId id, const Shape<D>& shape
     if (it == m.slotOf.end()) throw InvalidInput("object " + std::to_string(id) + ".id", "unknown id");
     Shape<D> validated = shape;
     validateShape<D>(validated, [&] { return "object " + std::to_string(id); });
-    typename Impl::Placement p = m.makePlacement(validated);
     const ObjectSlot slot = it->second;
     typename Impl::Record& r = m.records[slot];
+    typename Impl::Placement p = m.makePlacement(validated, r.inset);
     switch (r.state) {
     case Impl::State::Tracked:
     case Impl::State::Static: m.moveRasterized(slot, p); break;

@@ -42,6 +42,13 @@ template <int D> struct Culler<D>::Impl {
         Shape<D> world;
         Shape<D> local;            // voxel units, as rasterized into I and O
         Box<D> localBounds;
+        // The occluder model (ObjectDesc::occluderInset), voxel units: what O holds and the occlusion
+        // images draw. Held apart only for a positive inset (a polygon copy per placement query otherwise).
+        Shape<D> inner;
+        bool inset = false;    // the occluder is `inner`, not `local`
+        bool occludes = true;  // false when the inset leaves nothing
+        /// The occluder model, or null when the object occludes nothing.
+        const Shape<D>* occluder() const { return !occludes ? nullptr : inset ? &inner : &local; }
         double worldMagnitude = 0; // largest |coordinate| of the world-unit bounds
         bool outsideGrid = false;  // partly or wholly outside: also tested against the view region
     };
@@ -50,6 +57,7 @@ template <int D> struct Culler<D>::Impl {
         ObjectId id = 0;
         Placement at;
         double maxSpeed = 0;
+        double inset = 0; // [World units] ObjectDesc::occluderInset
         State state = State::Detached;
         bool alive = false;
         std::uint64_t lastPvsFrame = 0; // frameIndex of the last PVS holding it
@@ -101,8 +109,9 @@ template <int D> struct Culler<D>::Impl {
     // The grid PVS's slots in the order added, and the occlusion buffer that refines it (3D).
     std::vector<ObjectSlot> pvsSlots;
     struct BufferShape {
-        Shape<D> shape; // voxel units
-        double slack;   // conversion slack of the object and the camera
+        Shape<D> shape;            // voxel units
+        const Shape<D>* occluder;  // its occluder model (in records; null: occludes nothing)
+        double slack;              // conversion slack of the object and the camera
         ObjectSlot slot;
     };
     std::vector<std::pair<double, std::uint32_t>> bufferOrder; // (nearest distance, index in bufferShapes)
@@ -126,7 +135,7 @@ template <int D> struct Culler<D>::Impl {
 
     // ---- placements, rasterization and object states (ObjectTable.cpp) ------------------------------
 
-    Placement makePlacement(const Shape<D>& world) const;
+    Placement makePlacement(const Shape<D>& world, double inset) const;
     void rasterize(ObjectSlot slot, int sign);
     void buildFootprint(const Placement& p, RowFootprint& f) const;
     void moveRasterized(ObjectSlot slot, const Placement& p);

@@ -11,7 +11,7 @@
 
 namespace rgvc {
 
-template <int D> auto Culler<D>::Impl::makePlacement(const Shape<D>& world) const -> Placement {
+template <int D> auto Culler<D>::Impl::makePlacement(const Shape<D>& world, double inset) const -> Placement {
     Placement p;
     p.world = world;
     const Box<D> wb = boundsOf<D>(world);
@@ -19,6 +19,10 @@ template <int D> auto Culler<D>::Impl::makePlacement(const Shape<D>& world) cons
         p.worldMagnitude = std::max(p.worldMagnitude, std::max(std::abs(wb.min[a]), std::abs(wb.max[a])));
     p.local = toLocal<D>(world, grid);
     p.localBounds = boundsOf<D>(p.local);
+    if (inset > 0) {
+        p.inset = true;
+        p.occludes = insetShape<D>(p.local, grid.toLocalLength(inset), p.inner);
+    }
     p.outsideGrid = extendsOutsideGrid<D>(p.local, grid.resolution());
     return p;
 }
@@ -37,7 +41,7 @@ template <int D> void Culler<D>::Impl::rasterize(ObjectSlot slot, int sign) {
 
 template <int D> void Culler<D>::Impl::buildFootprint(const Placement& p, RowFootprint& f) const {
     // The slack covers the world-to-voxel rounding of the object's coordinates (and the grid's).
-    f.build<D>(p.local, grid, grid.conversionSlack(p.worldMagnitude));
+    f.build<D>(p.local, p.occluder(), grid, grid.conversionSlack(p.worldMagnitude));
 }
 
 /// Moves a rasterized object by writing only the difference between its old (cached) and new
@@ -126,7 +130,7 @@ template <int D> auto Culler<D>::Impl::fetch(ObjectSlot slot, CullStats& st) -> 
     try {
         Shape<D> s = (*query)(r.id);
         validateShape<D>(s, [&] { return "object " + std::to_string(r.id) + ".shape"; });
-        fetched = makePlacement(s);
+        fetched = makePlacement(s, r.inset);
     } catch (const InvalidInput& e) {
         if (invalidField.empty() && !queryException) {
             invalidField = e.field();
@@ -143,7 +147,7 @@ template <int D> auto Culler<D>::Impl::fetch(ObjectSlot slot, CullStats& st) -> 
     return &fetched;
 }
 
-template auto Culler<2>::Impl::makePlacement(const Shape<2>&) const -> Placement;
+template auto Culler<2>::Impl::makePlacement(const Shape<2>&, double) const -> Placement;
 template void Culler<2>::Impl::rasterize(ObjectSlot, int);
 template void Culler<2>::Impl::buildFootprint(const Placement&, RowFootprint&) const;
 template void Culler<2>::Impl::moveRasterized(ObjectSlot, const Placement&);
@@ -155,7 +159,7 @@ template void Culler<2>::Impl::adopt(ObjectSlot, const Placement&);
 template void Culler<2>::Impl::attachTracked(ObjectSlot, const Placement&);
 template void Culler<2>::Impl::attachHidden(ObjectSlot, const Placement&, const TbvRegion<2>&, std::uint64_t);
 template auto Culler<2>::Impl::fetch(ObjectSlot, CullStats&) -> const Placement*;
-template auto Culler<3>::Impl::makePlacement(const Shape<3>&) const -> Placement;
+template auto Culler<3>::Impl::makePlacement(const Shape<3>&, double) const -> Placement;
 template void Culler<3>::Impl::rasterize(ObjectSlot, int);
 template void Culler<3>::Impl::buildFootprint(const Placement&, RowFootprint&) const;
 template void Culler<3>::Impl::moveRasterized(ObjectSlot, const Placement&);

@@ -64,6 +64,13 @@ template <int D> struct ObjectDesc {
     /// calls; sizes its TBVs. 0: the object moves only by updateObject, so, like a static one, it is
     /// never asked for its placement and never gets a TBV.
     double maxSpeed = 0;
+    /// [World units] [Limit] finite, >= 0. The occluder model is the shape shrunk by this much
+    /// (insetShape): O holds only voxels entirely inside it, and the occlusion images draw it; I and every
+    /// visibility test keep the shape itself. Seed 004 §5.1's principle for objects drawn as meshes that
+    /// differ from the analytic shape: give the shape that contains the drawn mesh, and the inset that
+    /// puts the occluder inside it (a sphere drawn as an inscribed mesh of inradius r_in: r - r_in). Then
+    /// nothing the grid hides could have changed a pixel. 0: the shape itself occludes.
+    double occluderInset = 0;
 };
 
 /// The application's answer to "where is object `id` now?", in world units. Called by cull() only for

@@ -187,4 +187,60 @@ template <int D, class Field> inline void validateShape(Shape<D>& s, const Field
         s);
 }
 
+/// The shape shrunk by `d` (an erosion: every point at distance > d from the outside; closed sets are
+/// kept closed by taking the offset faces as the new faces). This is the occluder model of seed 004
+/// §5.1's occlusion-preserving principle when what is drawn differs from the analytic shape: a sphere
+/// drawn as an inscribed mesh of inradius r_in contains the ball shrunk by r - r_in, so voxels entirely
+/// inside that ball are covered by the mesh and O never hides what the mesh lets through.
+/// Ball: radius - d. Box: every face moved in by d. Convex polygon (counter-clockwise, as validateShape
+/// leaves it): the original clipped by every edge's half-plane moved in by d (Sutherland-Hodgman), so
+/// edges that vanish are dropped exactly.
+/// [Units] d in the shape's units. [Limit] d finite, >= 0.
+/// @return false when nothing is left (the shape then occludes nothing); `out` is only written on true.
+template <int D> inline bool insetShape(const Shape<D>& s, double d, Shape<D>& out) {
+    if (d <= 0) {
+        out = s;
+        return true;
+    }
+    return std::visit(
+        [&](const auto& x) -> bool {
+            using T = std::decay_t<decltype(x)>;
+            if constexpr (std::is_same_v<T, Ball<D>>) {
+                if (!(x.radius > d)) return false;
+                out = Ball<D>{x.center, x.radius - d};
+                return true;
+            } else if constexpr (std::is_same_v<T, Box<D>>) {
+                Box<D> b{x.min + d, x.max - d};
+                for (int a = 0; a < D; ++a)
+                    if (!(b.min[a] < b.max[a])) return false;
+                out = b;
+                return true;
+            } else {
+                const std::size_t n = x.points.size();
+                std::vector<Vec2> poly = x.points, next;
+                for (std::size_t i = 0; i < n && poly.size() >= 3; ++i) {
+                    const Vec2 a = x.points[i], e = x.points[(i + 1) % n] - a;
+                    const double len = std::sqrt(lengthSquared<2>(e));
+                    if (!(len > 0)) continue;
+                    // Inside (left of the ccw edge, by more than d): cross(e, p - a) / |e| - d >= 0.
+                    auto side = [&](const Vec2& p) { return cross2(e, p - a) / len - d; };
+                    next.clear();
+                    for (std::size_t k = 0, m = poly.size(); k < m; ++k) {
+                        const Vec2 p = poly[k], q = poly[(k + 1) % m];
+                        const double sp = side(p), sq = side(q);
+                        if (sp >= 0) next.push_back(p);
+                        if ((sp >= 0) != (sq >= 0)) next.push_back(p + (q - p) * (sp / (sp - sq)));
+                    }
+                    poly.swap(next);
+                }
+                if (poly.size() < 3 || !(signedArea(poly) > 1e-12)) return false;
+                T r;
+                r.points = std::move(poly);
+                out = r;
+                return true;
+            }
+        },
+        s);
+}
+
 } // namespace rgvc

@@ -33,16 +33,21 @@ struct RowSpan {
 /// The touched (I) and inner (O) voxels of one placement, as spans in increasing row order.
 class RowFootprint {
 public:
-    /// Rasterizes a shape given in voxel units (see forEachTouchedRow / forEachInnerRow). Reuses the
-    /// capacity it has: no allocation once it has held a footprint as large.
-    template <int D> void build(const Shape<D>& local, const GridGeometry<D>& grid, double slack) {
+    /// Rasterizes a shape given in voxel units (see forEachTouchedRow / forEachInnerRow): I from `local`,
+    /// O from `inner` (the occluder model, contained in `local`; null: no O). Reuses the capacity it
+    /// has: no allocation once it has held a footprint as large.
+    template <int D> void build(const Shape<D>& local, const Shape<D>* inner, const GridGeometry<D>& grid, double slack) {
         m_spans.clear();
         auto push = [&](const IVec<D>& row, std::int32_t x0, std::int32_t x1) {
             m_spans.push_back({grid.linearIndex(row), x0, x1});
         };
         forEachTouchedRow<D>(local, grid.resolution(), push, slack);
         m_touched = std::uint32_t(m_spans.size());
-        forEachInnerRow<D>(local, grid.resolution(), push, slack);
+        if (inner != nullptr) forEachInnerRow<D>(*inner, grid.resolution(), push, slack);
+    }
+    /// The shape is its own occluder model.
+    template <int D> void build(const Shape<D>& local, const GridGeometry<D>& grid, double slack) {
+        build<D>(local, &local, grid, slack);
     }
 
     /// Adds (sign > 0) or removes (sign < 0) the whole footprint of `slot`. Returns the voxels written.
