@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 
@@ -51,6 +52,7 @@ bool OcclusionBuffer3D::begin(const ViewFrustum& view, int rows) {
     }
     m_rowA.resize(std::size_t(m_cols + 1));
     m_rowB.resize(std::size_t(m_cols + 1));
+    m_corners.resize(std::size_t(m_cols + 1));
     m_active = true;
     return true;
 }
@@ -336,7 +338,7 @@ bool OcclusionBuffer3D::hiddenParts(const Vec3& lo, const Vec3& hi, int levels, 
 }
 
 template <class FillRow, class OnPartial>
-void OcclusionBuffer3D::drawRect(const PixelRect& r, FillRow&& fillRow, OnPartial&& onPartial) {
+void OcclusionBuffer3D::drawRect(const PixelRect& r, FillRow&& fillRow, OnPartial&& onPartial, bool partials) {
     if (r.i0 > r.i1) return;
     // Two lattice rows at a time; the pixel loop uses selects, not jumps.
     fillRow(r.j0, r.i0, r.i1 + 1, m_rowA.data());
@@ -346,17 +348,36 @@ void OcclusionBuffer3D::drawRect(const PixelRect& r, FillRow&& fillRow, OnPartia
         double* row = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
         const double* a = m_rowA.data();
         const double* b = m_rowB.data();
-        for (int i = r.i0; i <= r.i1; ++i) {
+        for (int i = r.i0; i <= r.i1; ++i) { // branch-free: vectorized
             const double e = std::max(std::max(a[i], a[i + 1]), std::max(b[i], b[i + 1]));
             const double lo = std::min(std::min(a[i], a[i + 1]), std::min(b[i], b[i + 1]));
             const bool in = lo >= 0; // every corner ray passes through the interior
             covered += in;
-            row[i] = in ? std::min(row[i], e) : row[i];
-            if constexpr (!std::is_same_v<std::decay_t<OnPartial>, std::nullptr_t>)
-                if (!in && e >= 0) // which corner rays pass through the interior: bit 0, 1 on row j, 2, 3 on j + 1
-                    onPartial(i, j, unsigned(a[i] >= 0) | unsigned(a[i + 1] >= 0) << 1 | unsigned(b[i] >= 0) << 2 |
-                                        unsigned(b[i + 1] >= 0) << 3);
+            const double m = std::min(row[i], e);
+            row[i] = in ? m : row[i];
         }
+        if constexpr (!std::is_same_v<std::decay_t<OnPartial>, std::nullptr_t>)
+            if (partials) {
+                // Which corner rays pass through the interior: bit 0, 1 on row j, 2, 3 on j + 1. Computed
+                // branch-free into bytes (vectorized), then only the pixels with some but not all of them
+                // (the footprint's rim) are handed on, eight bytes at a time.
+                std::uint8_t* c = m_corners.data();
+                for (int i = r.i0; i <= r.i1; ++i)
+                    c[i] = std::uint8_t(std::uint8_t(a[i] >= 0) | std::uint8_t(a[i + 1] >= 0) << 1 |
+                                        std::uint8_t(b[i] >= 0) << 2 | std::uint8_t(b[i + 1] >= 0) << 3);
+                for (int i = r.i0; i <= r.i1; ++i) {
+                    if (i + 8 <= r.i1 + 1) {
+                        std::uint64_t w;
+                        std::memcpy(&w, c + i, 8);
+                        // All eight 0 or all eight 15: nothing partial among them.
+                        if (w == 0 || w == 0x0F0F0F0F0F0F0F0FULL) {
+                            i += 7;
+                            continue;
+                        }
+                    }
+                    if (c[i] != 0 && c[i] != 15) onPartial(i, j, unsigned(c[i]));
+                }
+            }
         std::swap(m_rowA, m_rowB);
     }
     m_stats.pixelsCovered += covered;
@@ -420,11 +441,38 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
     // The pixels this box covers only in part may be covered by its union with another box drawn this
     // frame (a wall meeting another at a corner, seen at an angle): OcclusionSeams3D.cpp.
     const std::uint32_t seam = addSeamBox(lo, hi);
+    auto onPartial = [&](int i, int j, unsigned corners) { notePartial(i, j, seam, corners); };
+    bool onPlane = false; // the camera on a face plane: 0 / 0 in the slab test below
+    for (int a = 0; a < 3; ++a) onPlane = onPlane || lo[a] == 0 || hi[a] == 0;
+    if (onPlane) {
+        drawRect(rectOf(lo, hi), [&](int j, int i0, int i1, double* out) {
+            for (int i = i0; i <= i1; ++i) out[i] = entry(i, j);
+        }, onPartial, seam != 0);
+        return;
+    }
+    // The same slab test as `entry`, branch-free so that the compiler vectorizes the row (the box draw
+    // was the largest cost of the brick traversal: 44% of its instructions on the game world of
+    // rgvc_bench_classes). Along the unnormalized corner ray D = forward + x right + y up, a point is
+    // s D, and the distance is t = s |D| = s / invLength; the conditions scale by |D| > 0, so they read
+    // the same in s, with the 1e-300 kept un-divided (stricter, |D| >= 1). No face plane holds the camera,
+    // so every lo / D and hi / D is a number or an infinity of the right sign, never 0 / 0.
+    const double m = kRelMargin, pad = kRelMargin * scale;
+    const double* xs = m_cornerX.data();
     drawRect(rectOf(lo, hi), [&](int j, int i0, int i1, double* out) {
-        for (int i = i0; i <= i1; ++i) out[i] = entry(i, j);
-    }, [&](int i, int j, unsigned corners) {
-        if (seam != 0) notePartial(i, j, seam, corners);
-    });
+        const double y = m_cornerY[std::size_t(j)];
+        const Vec3 b = m_forward + y * m_up, r = m_right;
+        const double* inv = m_invLen.data() + std::size_t(j) * std::size_t(m_cols + 1);
+        for (int i = i0; i <= i1; ++i) {
+            const double x = xs[i];
+            const double dx = b.x + x * r.x, dy = b.y + x * r.y, dz = b.z + x * r.z;
+            const double x1 = lo.x / dx, x2 = hi.x / dx, y1 = lo.y / dy, y2 = hi.y / dy, z1 = lo.z / dz, z2 = hi.z / dz;
+            const double e = std::max(std::max(std::min(x1, x2), std::min(y1, y2)), std::min(z1, z2));
+            const double f = std::min(std::min(std::max(x1, x2), std::max(y1, y2)), std::max(z1, z2));
+            const bool ok = (e > 0) & (f - e > m * f + 1e-300);
+            const double t = (e / inv[i]) * (1 + m) + pad;
+            out[i] = ok ? t : -1.0;
+        }
+    }, onPartial, seam != 0);
 }
 
 } // namespace rgvc

@@ -150,8 +150,9 @@ private:
     /// distance along the unit ray through lattice corner (i, j), or a negative value when that ray misses
     /// the occluder's interior.
     /// onPartial(i, j, corners) is called for the pixels some but not all of whose corner rays pass through
-    /// the occluder's interior, with a bit per such corner (a null type for none: spheres).
-    template <class FillRow, class OnPartial> void drawRect(const PixelRect& r, FillRow&& fillRow, OnPartial&& onPartial);
+    /// the occluder's interior, with a bit per such corner, when `partials` (a null type for none: spheres).
+    template <class FillRow, class OnPartial>
+    void drawRect(const PixelRect& r, FillRow&& fillRow, OnPartial&& onPartial, bool partials = false);
 
     // Seam fusion (OcclusionSeams3D.cpp): boxes drawn this frame with their image polygons, and per pixel
     // the first two boxes that covered only part of it.
@@ -179,6 +180,7 @@ private:
     std::vector<double> m_cornerX, m_cornerY, m_invLen;
     double m_latticeW = -1, m_latticeH = -1;
     std::vector<double> m_rowA, m_rowB; // drawRect's corner entries of two lattice rows
+    std::vector<std::uint8_t> m_corners; // drawRect: per pixel of a row, which corner rays hit (4 bits)
     OcclusionBufferStats m_stats;
 };
 
