@@ -1,0 +1,495 @@
+// The GL stage's traversal without GL: ObjectBvh (build, refit, insert, remove, rebuild) and ChcRenderer
+// (ZB, VFC, stop-and-wait, CHC, CHC++, Ideal) over the deterministic CPU device of FakeQueryDevice.hpp.
+// The central check: with n_vp = 0, the image of every frame equals the image of drawing everything
+// (zero misses), on random scenes and coherent walks, with query latency.
+#include "ChcTestSupport.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace rgvc;
+using namespace rgvc::testing;
+
+namespace {
+
+constexpr CullMethod kQueryMethods[] = {CullMethod::StopAndWait, CullMethod::Chc, CullMethod::ChcPlusPlus};
+
+std::vector<ObjectId> sorted(std::vector<ObjectId> v) {
+    std::sort(v.begin(), v.end());
+    return v;
+}
+
+/// Per-node identity: stamp, parent, children and leaf objects.
+struct NodeShape {
+    std::uint32_t stamp;
+    BvhNodeId parent, c0, c1;
+    std::vector<std::uint32_t> objects;
+    bool operator==(const NodeShape&) const = default;
+};
+std::vector<NodeShape> shapeOf(const ObjectBvh& bvh) {
+    std::vector<NodeShape> v;
+    for (BvhNodeId id = 0; id < bvh.nodeCapacity(); ++id) {
+        const ObjectBvh::Node& n = bvh.node(id);
+        v.push_back({n.live ? n.stamp : 0, n.parent, n.child[0], n.child[1], n.objects});
+    }
+    return v;
+}
+
+Box<3> randomBox(std::mt19937_64& rng, double extent) {
+    using reference::seeded::uniform;
+    const Vec3 c{uniform(rng, 0, extent), uniform(rng, 0, extent), uniform(rng, 0, extent)};
+    const Vec3 h{uniform(rng, 0.1, 2), uniform(rng, 0.1, 2), uniform(rng, 0.1, 2)};
+    return {c - h, c + h};
+}
+
+/// Runs `frames` frames of a walk with every method in `methods` (each its own renderer, one device)
+/// and checks each frame's image against drawing everything. Returns the total queries per method.
+struct WalkResult {
+    std::vector<std::uint64_t> queries;
+    std::vector<std::uint64_t> drawn;
+    int failures = 0;
+};
+WalkResult checkWalk(const ChcScene& s, const std::string& label, std::span<const CullMethod> methods, int frames,
+                     int latency, const ChcOptions& options = {}, double degPerFrame = 1.5) {
+    FakeQueryDevice device(64, 48, 0.01, latency);
+    ObjectBvh bvh;
+    load(s, device, bvh);
+    std::vector<ChcRenderer> renderers;
+    renderers.reserve(methods.size());
+    for (std::size_t m = 0; m < methods.size(); ++m) renderers.emplace_back(device, bvh, options);
+    WalkResult r;
+    r.queries.assign(methods.size(), 0);
+    r.drawn.assign(methods.size(), 0);
+    for (int f = 0; f < frames && r.failures == 0; ++f) {
+        const Camera3 cam = walkCamera(s.camera, s.step, f, degPerFrame);
+        const IdDepthImage full = device.referenceImage(cam, s.ids);
+        for (std::size_t m = 0; m < methods.size(); ++m) {
+            const std::uint64_t fetchesBefore = device.blockingFetches();
+            const ChcFrameStats& st = renderers[m].renderAll(cam, methods[m]);
+            r.queries[m] += st.queries();
+            r.drawn[m] += st.objectsDrawn;
+            const bool same = device.image() == full;
+            if (!same) {
+                ++r.failures;
+                FAIL_CHECK(label << ", frame " << f << ", " << cullMethodName(methods[m]) << ", latency " << latency
+                                 << ": the image differs from drawing everything\n"
+                                 << device.image().differences(full));
+            }
+            // The stats agree with what the device saw.
+            CHECK(st.blockingFetches == device.blockingFetches() - fetchesBefore);
+            CHECK(st.objectsDrawn == st.drawn.size());
+            CHECK(!st.approximate);
+        }
+    }
+    return r;
+}
+
+} // namespace
+
+// --------------------------------------------------------------------------------------------------
+// ObjectBvh
+
+TEST_CASE("ObjectBvh: a build bounds every object exactly, leaves hold at most maxLeafObjects", "[chc]") {
+    for (std::uint64_t seed : {1u, 2u, 3u}) {
+        std::mt19937_64 rng(seed);
+        std::vector<BvhItem> items;
+        const int n = seed == 1 ? 1 : (seed == 2 ? 37 : 500);
+        for (int i = 0; i < n; ++i) items.push_back({ObjectId(i) * 3 + 11, randomBox(rng, 100)});
+        if (seed == 3) // coincident centroids: the median split must still terminate
+            for (int i = 0; i < 50; ++i) items.push_back({ObjectId(10000 + i), Box<3>{Vec3(5.0), Vec3(6.0)}});
+        ObjectBvh bvh;
+        bvh.build(items);
+        INFO("seed " << seed);
+        CHECK(checkBvh(bvh).empty());
+        CHECK(bvh.objectCount() == items.size());
+        CHECK(bvh.degradation() == Approx(1.0));
+        for (BvhNodeId id = 0; id < bvh.nodeCapacity(); ++id)
+            if (bvh.node(id).isLeaf()) CHECK(bvh.node(id).objects.size() <= 4u);
+        for (const BvhItem& it : items) CHECK(bvh.contains(it.id));
+    }
+    ObjectBvh empty;
+    empty.build({});
+    CHECK(empty.root() == kNoBvhNode);
+    CHECK(checkBvh(empty).empty());
+}
+
+TEST_CASE("ObjectBvh: refit keeps node ids and contains moved objects; insert and remove keep other ids", "[chc]") {
+    std::mt19937_64 rng(77);
+    std::vector<BvhItem> items;
+    for (int i = 0; i < 300; ++i) items.push_back({ObjectId(i + 1), randomBox(rng, 50)});
+    ObjectBvh bvh;
+    bvh.build(items);
+    const std::vector<NodeShape> before = shapeOf(bvh);
+    // Moves, small and large: refit only.
+    for (int round = 0; round < 20; ++round) {
+        for (int k = 0; k < 40; ++k) {
+            const ObjectId id = ObjectId(rng() % 300 + 1);
+            const Vec3 t{reference::seeded::uniform(rng, -3, 3), reference::seeded::uniform(rng, -3, 3),
+                         reference::seeded::uniform(rng, -3, 3)};
+            Box<3> b = bvh.objectBounds(bvh.slotOf(id));
+            bvh.update(id, Box<3>{b.min + t, b.max + t});
+        }
+        REQUIRE(checkBvh(bvh).empty());
+    }
+    CHECK(shapeOf(bvh) == before); // same ids, stamps, links and leaves: only boxes changed
+    // Removes: two nodes go (the leaf and its parent) when a leaf empties; every other node stays.
+    for (int k = 0; k < 120; ++k) {
+        const std::vector<NodeShape> pre = shapeOf(bvh);
+        const ObjectId id = ObjectId(k * 2 + 1);
+        bvh.remove(id);
+        REQUIRE(checkBvh(bvh).empty());
+        CHECK_FALSE(bvh.contains(id));
+        const std::vector<NodeShape> post = shapeOf(bvh);
+        for (std::size_t i = 0; i < pre.size(); ++i)
+            if (post[i].stamp != 0 && pre[i].stamp != 0) CHECK(post[i].stamp == pre[i].stamp);
+    }
+    // Inserts: only a split leaf changes its stamp; new nodes get new stamps.
+    for (int k = 0; k < 200; ++k) {
+        const std::vector<NodeShape> pre = shapeOf(bvh);
+        bvh.insert(ObjectId(1000 + k), randomBox(rng, 50));
+        REQUIRE(checkBvh(bvh).empty());
+        const std::vector<NodeShape> post = shapeOf(bvh);
+        int changed = 0;
+        for (std::size_t i = 0; i < pre.size(); ++i)
+            if (pre[i].stamp != 0 && post[i].stamp != pre[i].stamp) ++changed;
+        CHECK(changed <= 1);
+    }
+    CHECK(bvh.objectCount() == 300 - 120 + 200);
+}
+
+TEST_CASE("ObjectBvh: refitted far apart, the tree degrades past the ratio and is rebuilt", "[chc]") {
+    std::mt19937_64 rng(5);
+    std::vector<BvhItem> items;
+    for (int i = 0; i < 400; ++i) items.push_back({ObjectId(i), randomBox(rng, 40)});
+    ObjectBvh bvh;
+    bvh.build(items);
+    CHECK_FALSE(bvh.rebuildIfDegraded());
+    for (int i = 0; i < 400; ++i) bvh.update(ObjectId(i), randomBox(rng, 40)); // a shuffle: boxes far from their leaves
+    CHECK(checkBvh(bvh).empty());
+    CHECK(bvh.degradation() > 2.0);
+    CHECK(bvh.rebuildIfDegraded());
+    CHECK(bvh.buildCount() == 2);
+    CHECK(bvh.degradation() == Approx(1.0));
+    CHECK(checkBvh(bvh).empty());
+}
+
+TEST_CASE("ObjectBvh: bad input is rejected with InvalidInput and changes nothing", "[chc]") {
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    ObjectBvh bvh;
+    bvh.build(std::vector<BvhItem>{{1, Box<3>{Vec3(0.0), Vec3(1.0)}}, {2, Box<3>{Vec3(2.0), Vec3(3.0)}}});
+    const std::vector<NodeShape> before = shapeOf(bvh);
+    CHECK_THROWS_AS(bvh.build(std::vector<BvhItem>{{1, Box<3>{Vec3(nan), Vec3(1.0)}}}), InvalidInput);
+    CHECK_THROWS_AS(bvh.build(std::vector<BvhItem>{{1, Box<3>{Vec3(0.0), Vec3(inf)}}}), InvalidInput);
+    CHECK_THROWS_AS(bvh.build(std::vector<BvhItem>{{1, Box<3>{Vec3(1.0), Vec3(0.0)}}}), InvalidInput);
+    CHECK_THROWS_AS(bvh.build(std::vector<BvhItem>{{7, Box<3>{Vec3(0.0), Vec3(1.0)}}, {7, Box<3>{Vec3(0.0), Vec3(1.0)}}}),
+                    InvalidInput);
+    CHECK_THROWS_AS(bvh.insert(1, Box<3>{Vec3(0.0), Vec3(1.0)}), InvalidInput);
+    CHECK_THROWS_AS(bvh.insert(3, Box<3>{Vec3(0.0), Vec3(nan)}), InvalidInput);
+    CHECK_THROWS_AS(bvh.update(9, Box<3>{Vec3(0.0), Vec3(1.0)}), InvalidInput);
+    CHECK_THROWS_AS(bvh.update(1, Box<3>{Vec3(-inf), Vec3(1.0)}), InvalidInput);
+    CHECK_THROWS_AS(bvh.remove(9), InvalidInput);
+    CHECK(shapeOf(bvh) == before);
+    CHECK(bvh.objectCount() == 2);
+    CHECK_THROWS_AS(ObjectBvh(BvhOptions{0, 2.0}), InvalidInput);
+    CHECK_THROWS_AS(ObjectBvh(BvhOptions{4, 1.0}), InvalidInput);
+    try {
+        bvh.update(1, Box<3>{Vec3(0.0), Vec3(nan)});
+        FAIL("no throw");
+    } catch (const InvalidInput& e) {
+        CHECK(e.field() == "bounds");
+    }
+}
+
+// --------------------------------------------------------------------------------------------------
+// The traversal: conservativeness
+
+TEST_CASE("CHC, CHC++, S&W and VFC miss nothing on random scenes and walks (n_vp = 0, with latency)", "[chc]") {
+    const CullMethod methods[] = {CullMethod::Vfc, CullMethod::StopAndWait, CullMethod::Chc, CullMethod::ChcPlusPlus};
+    int scenes = 0;
+    for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+        const ChcScene s = randomChcScene(seed);
+        for (int latency : {0, 3}) {
+            const WalkResult r = checkWalk(s, "random scene seed " + std::to_string(seed), methods, 8, latency);
+            CHECK(r.failures == 0);
+        }
+        ++scenes;
+    }
+    CHECK(scenes == 40);
+}
+
+TEST_CASE("CHC and CHC++ miss nothing with t_av, small batches and without tight bounds or multiqueries", "[chc]") {
+    const CullMethod methods[] = {CullMethod::Chc, CullMethod::ChcPlusPlus};
+    ChcOptions variants[4];
+    variants[0].assumedVisibleFrames = 4;
+    variants[1].batchSize = 1;
+    variants[1].maxMultiquerySize = 3;
+    variants[2].tightBounds = false;
+    variants[2].multiqueries = false;
+    variants[3].tightBoundsDepth = 4;
+    variants[3].tightBoundsRatio = 2.0;
+    variants[3].assumedVisibleFrames = 2;
+    for (std::uint64_t seed = 100; seed < 112; ++seed)
+        for (int v = 0; v < 4; ++v) {
+            const ChcScene s = randomChcScene(seed);
+            const WalkResult r =
+                checkWalk(s, "seed " + std::to_string(seed) + ", options " + std::to_string(v), methods, 8, 2, variants[v]);
+            CHECK(r.failures == 0);
+        }
+}
+
+TEST_CASE("CHC: a camera inside a room of boxes sees the walls only, without querying the boxes it is in", "[chc]") {
+    ChcScene s;
+    // Six walls of a room [0, 10]^3 (thickness 0.5), and spheres outside it.
+    const double t = 0.5;
+    const Box<3> walls[6] = {{{-t, 0, 0}, {0, 10, 10}}, {{10, 0, 0}, {10 + t, 10, 10}}, {{0, -t, 0}, {10, 0, 10}},
+                             {{0, 10, 0}, {10, 10 + t, 10}}, {{0, 0, -t}, {10, 10, 0}}, {{0, 0, 10}, {10, 10, 10 + t}}};
+    for (int i = 0; i < 6; ++i) {
+        s.ids.push_back(ObjectId(i + 1));
+        s.shapes.push_back(walls[i]);
+    }
+    std::mt19937_64 rng(3);
+    for (int i = 0; i < 200; ++i) {
+        Vec3 c;
+        do c = Vec3{reference::seeded::uniform(rng, -30, 40), reference::seeded::uniform(rng, -30, 40),
+                    reference::seeded::uniform(rng, -30, 40)};
+        while (c.x > -3 && c.x < 13 && c.y > -3 && c.y < 13 && c.z > -3 && c.z < 13);
+        s.ids.push_back(ObjectId(100 + i));
+        s.shapes.push_back(Ball<3>{c, 1.0});
+    }
+    s.camera.position = Vec3{5, 5, 5};
+    s.camera.direction = Vec3{1, 0.2, 0.3};
+    s.camera.fovDeg = 90;
+    s.step = 0.05;
+    const CullMethod methods[] = {CullMethod::StopAndWait, CullMethod::Chc, CullMethod::ChcPlusPlus};
+    CHECK(checkWalk(s, "room", methods, 20, 2, {}, 10).failures == 0);
+
+    FakeQueryDevice device(64, 48, 0.01, 2);
+    ObjectBvh bvh;
+    load(s, device, bvh);
+    ChcRenderer chc(device, bvh);
+    for (int f = 0; f < 6; ++f) {
+        const ChcFrameStats& st = chc.renderAll(walkCamera(s.camera, s.step, f, 20), CullMethod::ChcPlusPlus);
+        CHECK(st.nodesNearCamera >= 1); // the root (and every box holding the eye) without a query
+        // Once coherence has settled: the walls, and what shares a leaf with a wall (a visible leaf
+        // draws all its objects) or a leaf whose box holds the eye.
+        if (f >= 2)
+            for (ObjectId id : st.drawn) {
+                const ObjectBvh::Node& leaf = bvh.node(bvh.leafOf(bvh.slotOf(id)));
+                const Vec3 eye = walkCamera(s.camera, s.step, f, 20).position;
+                const Box<3>& b = leaf.bounds;
+                const bool holdsEye = b.min.x <= eye.x && eye.x <= b.max.x && b.min.y <= eye.y && eye.y <= b.max.y &&
+                                      b.min.z <= eye.z && eye.z <= b.max.z;
+                bool withWall = false;
+                for (std::uint32_t slot : leaf.objects) withWall = withWall || bvh.objectId(slot) <= 6;
+                CHECK((withWall || holdsEye));
+            }
+    }
+}
+
+// --------------------------------------------------------------------------------------------------
+// The traversal: what coherence buys
+
+TEST_CASE("CHC issues fewer queries than S&W on a coherent walk, CHC++ fewer than CHC, same images", "[chc]") {
+    const CullMethod methods[] = {CullMethod::StopAndWait, CullMethod::Chc, CullMethod::ChcPlusPlus, CullMethod::Vfc};
+    for (std::uint64_t seed : {1u, 2u}) {
+        const ChcScene s = boxCity(seed);
+        const WalkResult r = checkWalk(s, "box city seed " + std::to_string(seed), methods, 60, 4, {}, 0.1);
+        REQUIRE(r.failures == 0);
+        INFO("queries over the walk: S&W " << r.queries[0] << ", CHC " << r.queries[1] << ", CHC++ " << r.queries[2]
+                                           << "; drawn: S&W " << r.drawn[0] << ", CHC " << r.drawn[1] << ", CHC++ "
+                                           << r.drawn[2] << ", VFC " << r.drawn[3]);
+        CHECK(r.queries[1] < r.queries[0]);
+        CHECK(r.queries[2] < r.queries[1]);
+        CHECK(r.drawn[1] < r.drawn[3]); // occlusion culling culls
+        CHECK(r.drawn[2] < r.drawn[3]);
+        WARN("box city " << seed << ": queries S&W " << r.queries[0] << ", CHC " << r.queries[1] << ", CHC++ "
+                         << r.queries[2] << "; drawn S&W " << r.drawn[0] << ", CHC " << r.drawn[1] << ", CHC++ "
+                         << r.drawn[2] << ", VFC " << r.drawn[3]);
+    }
+}
+
+TEST_CASE("CHC and CHC++ draw S&W's set in a static view after a few frames", "[chc]") {
+    for (std::uint64_t seed : {1u, 2u, 3u}) {
+        const ChcScene s = boxCity(seed, 8, 200);
+        for (int latency : {0, 3}) {
+            FakeQueryDevice device(64, 48, 0.01, latency);
+            ObjectBvh bvh;
+            load(s, device, bvh);
+            ChcRenderer sw(device, bvh), chc(device, bvh), chcpp(device, bvh);
+            const Camera3 cam = walkCamera(s.camera, s.step, 10, 0.1);
+            const std::vector<ObjectId> swSet = sorted(sw.renderAll(cam, CullMethod::StopAndWait).drawn);
+            std::vector<ObjectId> chcSet, chcppSet;
+            std::uint32_t chcQueries = 0;
+            for (int f = 0; f < 6; ++f) {
+                chcSet = sorted(chc.renderAll(cam, CullMethod::Chc).drawn);
+                chcQueries = chc.lastStats().queries();
+                chcppSet = sorted(chcpp.renderAll(cam, CullMethod::ChcPlusPlus).drawn);
+            }
+            INFO("seed " << seed << ", latency " << latency);
+            CHECK(chcSet == swSet);
+            CHECK(chcppSet == swSet);
+            CHECK(chcQueries < sw.lastStats().queries());
+        }
+    }
+}
+
+TEST_CASE("CHC over moving objects: the refitted hierarchy keeps its ids and CHC misses nothing", "[chc]") {
+    ChcScene s = boxCity(9, 8, 300);
+    FakeQueryDevice device(64, 48, 0.01, 3);
+    ObjectBvh bvh;
+    load(s, device, bvh);
+    ChcRenderer chc(device, bvh), chcpp(device, bvh);
+    std::mt19937_64 rng(9);
+    std::vector<Vec3> velocity(s.ids.size(), Vec3(0.0));
+    for (std::size_t i = 64; i < s.ids.size(); ++i) // the small objects move; the buildings stay
+        velocity[i] = Vec3{reference::seeded::uniform(rng, -0.3, 0.3), 0, reference::seeded::uniform(rng, -0.3, 0.3)};
+    std::uint64_t sum = 0;
+    for (int f = 0; f < 30; ++f) {
+        const std::vector<NodeShape> pre = shapeOf(bvh);
+        for (std::size_t i = 64; i < s.ids.size(); ++i) {
+            s.shapes[i] = translated<3>(s.shapes[i], velocity[i]);
+            device.setObject(s.ids[i], s.shapes[i]);
+            bvh.update(s.ids[i], boundsOf<3>(s.shapes[i]));
+        }
+        REQUIRE(checkBvh(bvh).empty());
+        CHECK(shapeOf(bvh) == pre);
+        const Camera3 cam = walkCamera(s.camera, s.step, f, 0.1);
+        const IdDepthImage full = device.referenceImage(cam, s.ids);
+        for (ChcRenderer* r : {&chc, &chcpp}) {
+            const ChcFrameStats& st = r->renderAll(cam, r == &chc ? CullMethod::Chc : CullMethod::ChcPlusPlus);
+            sum += st.queries();
+            INFO("frame " << f << ", " << cullMethodName(st.method));
+            REQUIRE(device.image() == full);
+        }
+    }
+    CHECK(sum > 0);
+}
+
+// --------------------------------------------------------------------------------------------------
+// Candidates, baselines, options and errors
+
+TEST_CASE("Candidates: only they are drawn, and every one of them that shows is drawn", "[chc]") {
+    for (std::uint64_t seed = 200; seed < 210; ++seed) {
+        const ChcScene s = randomChcScene(seed);
+        FakeQueryDevice device(64, 48, 0.01, 2);
+        ObjectBvh bvh;
+        load(s, device, bvh);
+        std::mt19937_64 rng(seed);
+        std::vector<ObjectId> candidates;
+        for (ObjectId id : s.ids)
+            if (rng() % 2) candidates.push_back(id);
+        if (!candidates.empty()) candidates.push_back(candidates.front()); // a duplicate is harmless
+        const std::vector<ObjectId> sortedCandidates = [&] {
+            std::vector<ObjectId> v = sorted(candidates);
+            v.erase(std::unique(v.begin(), v.end()), v.end());
+            return v;
+        }();
+        ChcRenderer r[6] = {{device, bvh}, {device, bvh}, {device, bvh}, {device, bvh}, {device, bvh}, {device, bvh}};
+        const CullMethod all[] = {CullMethod::Zb, CullMethod::Vfc, CullMethod::StopAndWait,
+                                  CullMethod::Chc, CullMethod::ChcPlusPlus, CullMethod::Ideal};
+        for (int f = 0; f < 6; ++f) {
+            const Camera3 cam = walkCamera(s.camera, s.step, f);
+            const IdDepthImage ref = device.referenceImage(cam, candidates);
+            for (int m = 0; m < 6; ++m) {
+                const ChcFrameStats& st = r[m].render(cam, all[m], candidates);
+                INFO("seed " << seed << ", frame " << f << ", " << cullMethodName(all[m]));
+                const std::vector<ObjectId> drawn = sorted(st.drawn);
+                CHECK(std::adjacent_find(drawn.begin(), drawn.end()) == drawn.end()); // each once
+                CHECK(std::includes(sortedCandidates.begin(), sortedCandidates.end(), drawn.begin(), drawn.end()));
+                if (all[m] == CullMethod::Zb || all[m] == CullMethod::Ideal) CHECK(drawn == sortedCandidates);
+                if (all[m] == CullMethod::Zb) CHECK(st.queries() == 0);
+                CHECK(device.image() == ref);
+            }
+        }
+    }
+}
+
+TEST_CASE("n_vp > 0 is flagged approximate; ZB and VFC never are", "[chc]") {
+    const ChcScene s = boxCity(4, 6, 100);
+    FakeQueryDevice device;
+    ObjectBvh bvh;
+    load(s, device, bvh);
+    ChcOptions approx;
+    approx.visiblePixelThreshold = 5;
+    ChcRenderer a(device, bvh, approx), exact(device, bvh);
+    for (CullMethod m : kQueryMethods) {
+        CHECK(a.renderAll(s.camera, m).approximate);
+        CHECK_FALSE(exact.renderAll(s.camera, m).approximate);
+    }
+    CHECK_FALSE(a.renderAll(s.camera, CullMethod::Zb).approximate);
+    CHECK_FALSE(a.renderAll(s.camera, CullMethod::Vfc).approximate);
+    CHECK(std::string(cullMethodName(CullMethod::ChcPlusPlus)) == "chcpp");
+}
+
+TEST_CASE("t_av: assumed-visible leaves are not queried, and CHC++'s first interval is randomized", "[chc]") {
+    const ChcScene s = boxCity(5, 8, 200);
+    FakeQueryDevice device(64, 48, 0.01, 0);
+    ObjectBvh bvh;
+    load(s, device, bvh);
+    ChcOptions tav;
+    tav.assumedVisibleFrames = 5;
+    ChcRenderer plain(device, bvh), withTav(device, bvh, tav), plus(device, bvh, tav);
+    std::uint64_t q0 = 0, q1 = 0, assumed = 0;
+    std::vector<std::uint32_t> plusQueriesPerFrame;
+    for (int f = 0; f < 20; ++f) {
+        q0 += plain.renderAll(s.camera, CullMethod::Chc).queries();
+        const ChcFrameStats& st = withTav.renderAll(s.camera, CullMethod::Chc);
+        q1 += st.queries();
+        assumed += st.nodesAssumedVisible;
+        plusQueriesPerFrame.push_back(plus.renderAll(s.camera, CullMethod::ChcPlusPlus).singleQueries);
+    }
+    CHECK(q1 < q0);
+    CHECK(assumed > 0);
+    // Plain t_av queries every visible leaf in the same frames (every 5th); the randomized first interval
+    // spreads them: in a static view CHC++ has no frame after the first few without a single query.
+    int quiet = 0;
+    for (int f = 6; f < 20; ++f) quiet += plusQueriesPerFrame[std::size_t(f)] == 0 ? 1 : 0;
+    CHECK(quiet < 14);
+}
+
+TEST_CASE("ChcRenderer: bad input is rejected with InvalidInput before the device sees the frame", "[chc]") {
+    const ChcScene s = boxCity(6, 4, 20);
+    FakeQueryDevice device;
+    ObjectBvh bvh;
+    load(s, device, bvh);
+    ChcRenderer r(device, bvh);
+    const std::vector<ObjectId> unknown = {1, 2, 999999};
+    try {
+        r.render(s.camera, CullMethod::Chc, unknown);
+        FAIL("no throw");
+    } catch (const InvalidInput& e) {
+        CHECK(e.field() == "candidates[2]");
+    }
+    Camera3 bad = s.camera;
+    bad.direction = Vec3(0.0);
+    CHECK_THROWS_AS(r.renderAll(bad, CullMethod::Chc), InvalidInput);
+    bad = s.camera;
+    bad.position.x = std::numeric_limits<double>::quiet_NaN();
+    CHECK_THROWS_AS(r.renderAll(bad, CullMethod::ChcPlusPlus), InvalidInput);
+    bad = s.camera;
+    bad.up = bad.direction;
+    CHECK_THROWS_AS(r.renderAll(bad, CullMethod::StopAndWait), InvalidInput);
+    CHECK(device.drawCalls() == 0);
+    CHECK(device.queriesIssued() == 0);
+    CHECK(r.lastStats().frame == 0);
+    ChcOptions o;
+    o.nearDistance = 0;
+    CHECK_THROWS_AS(ChcRenderer(device, bvh, o), InvalidInput);
+    o = {};
+    o.batchSize = 0;
+    CHECK_THROWS_AS(ChcRenderer(device, bvh, o), InvalidInput);
+    o = {};
+    o.tightBoundsRatio = std::numeric_limits<double>::infinity();
+    CHECK_THROWS_AS(ChcRenderer(device, bvh, o), InvalidInput);
+    // An empty hierarchy renders empty frames.
+    ObjectBvh empty;
+    ChcRenderer e(device, empty);
+    CHECK(e.renderAll(s.camera, CullMethod::ChcPlusPlus).drawn.empty());
+    CHECK(e.render(s.camera, CullMethod::Zb, {}).drawn.empty());
+}
