@@ -144,6 +144,16 @@ private:
         // Pass 1: per row, which voxels hold ids, and the span inside the frustum; opaque voxels in view
         // start fused occluders (drawFusedBox) before any id of the brick is classified, so that a wall
         // hides what lies behind it in the same brick.
+        // A brick wholly inside the cone (its nearest corner on the inner side of every side plane) needs
+        // no row clipping: clipVoxelRow keeps every voxel of it (each voxel's farthest corner is on the
+        // inner side too). Most bricks a traversal reads away from the view's edges are such bricks.
+        bool inCone = true;
+        for (int i = 0; i < 4 && inCone; ++i) {
+            const Vec3& n = frustum.sideNormal(i);
+            double nearest = 0;
+            for (int a = 0; a < 3; ++a) nearest += n[a] * (double(n[a] > 0 ? lo[a] : hi[a]) - frustum.apex()[a]);
+            inCone = nearest > 0;
+        }
         int rows = 0;
         for (std::int32_t z = lo.z; z < hi.z; ++z)
             for (std::int32_t y = lo.y; y < hi.y; ++y) {
@@ -161,7 +171,7 @@ private:
                 r.ids = ids;
                 r.u0 = lo.x;
                 r.u1 = hi.x - 1;
-                if (!clipVoxelRow(frustum, IVec3(0), IVec3{0, y, z}, 0, r.u0, r.u1)) r.u0 = 1, r.u1 = 0;
+                if (!inCone && !clipVoxelRow(frustum, IVec3(0), IVec3{0, y, z}, 0, r.u0, r.u1)) r.u0 = 1, r.u1 = 0;
                 if (image == nullptr || opaque == 0) continue;
                 for (std::int32_t x = r.u0; x <= r.u1; ++x)
                     if (((opaque >> (x - lo.x)) & 1) != 0 && !storage.used(VoxelKey(r.key + std::uint32_t(x)), stamp))
