@@ -10,6 +10,8 @@ packages=(
   libglm-dev                      # vector maths (header-only)
   libopenvdb-dev libboost-iostreams-dev  # sparse grid backend (RGVC_WITH_OPENVDB); its CMake module needs boost-iostreams
   libosmesa6-dev libglfw3-dev     # headless GL 4.5 core (llvmpipe) and windows (RGVC_WITH_GL)
+  libgl-dev                       # GL/glcorearb.h, the GL stage's entry-point types
+  xvfb xauth                      # the GL window test runs under xvfb-run (fails without it)
   catch2                          # unit tests (v2.13)
   clang libclang-rt-14-dev        # libFuzzer targets (RGVC_BUILD_FUZZERS) and their sanitizer runtimes
   libtbb-dev                      # OpenVDB's threading; parallel benchmarks

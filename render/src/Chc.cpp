@@ -3,6 +3,7 @@
 #include "rgvc/render/Chc.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -89,6 +90,7 @@ const ChcFrameStats& ChcRenderer::renderFrame(const Camera3& camera, CullMethod 
     }
 
     beginStats(method);
+    const auto t0 = std::chrono::steady_clock::now();
     m_device.beginFrame(camera);
     switch (method) {
     case CullMethod::Zb:
@@ -99,6 +101,7 @@ const ChcFrameStats& ChcRenderer::renderFrame(const Camera3& camera, CullMethod 
     case CullMethod::ChcPlusPlus: renderChc(true); break;
     }
     m_device.endFrame();
+    m_stats.frameMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return m_stats;
 }
 
@@ -213,6 +216,15 @@ void ChcRenderer::gatherTight(BvhNodeId id, int depth) {
     }
 }
 
+std::uint64_t ChcRenderer::fetch(QueryHandle q, bool ready) {
+    if (ready) return m_device.queryResult(q);
+    ++m_stats.blockingFetches;
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::uint64_t samples = m_device.queryResult(q);
+    m_stats.waitMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return samples;
+}
+
 void ChcRenderer::renderZb() {
     // ZB and Ideal: the candidates as given (Ideal's candidates are the exact visible set), one draw call.
     m_drawBatch.clear();
@@ -263,8 +275,7 @@ void ChcRenderer::renderStopAndWait() {
             const QueryHandle q = m_device.issueQuery(m_boxes);
             ++m_stats.singleQueries;
             m_stats.queryBoxes += std::uint32_t(m_boxes.size());
-            if (!m_device.queryReady(q)) ++m_stats.blockingFetches;
-            visible = m_device.queryResult(q) > m_options.visiblePixelThreshold;
+            visible = fetch(q, m_device.queryReady(q)) > m_options.visiblePixelThreshold;
         }
         if (visible) traverseNode(id);
     }

@@ -33,7 +33,8 @@ void ChcRenderer::renderChc(bool plus) {
         // (the v-queue) to fill the time it would otherwise wait.
         while (m_queueHead < m_queue.size()) {
             const Pending p = m_queue[m_queueHead]; // a copy: handleResult may append to m_queue
-            if (!m_device.queryReady(p.handle)) {
+            const bool ready = m_device.queryReady(p.handle);
+            if (!ready) {
                 if (!m_heap.empty()) break;
                 if (plus && !m_invisibleQueue.empty()) {
                     flushInvisibleQueue();
@@ -43,10 +44,9 @@ void ChcRenderer::renderChc(bool plus) {
                     issueSingle(m_visibleQueue[m_visibleHead++], true, tight);
                     continue;
                 }
-                ++m_stats.blockingFetches;
             }
             ++m_queueHead;
-            handleResult(p, m_device.queryResult(p.handle), plus);
+            handleResult(p, fetch(p.handle, ready), plus);
         }
         // PART 2: the front-to-back traversal (§4.4: a priority queue on the distance to the node's box).
         if (!m_heap.empty()) {

@@ -88,6 +88,8 @@ struct ChcFrameStats {
     std::uint32_t multiQueryFailures = 0; ///< multiqueries that found samples; their nodes were requeried
     std::uint32_t queryBoxes = 0;        ///< boxes sent in all queries
     std::uint32_t blockingFetches = 0;   ///< results fetched while not ready (the CPU waited)
+    double waitMs = 0;                   ///< [Milliseconds] spent in those blocking fetches
+    double frameMs = 0;                  ///< [Milliseconds] beginFrame to the end of endFrame (traversal included)
     std::uint32_t nodesTraversed = 0;    ///< nodes taken from the traversal queue
     std::uint32_t nodesOutsideFrustum = 0;
     std::uint32_t nodesNearCamera = 0;   ///< visible without a query: the box is within the near plane's reach
@@ -156,6 +158,8 @@ private:
     void pullUp(BvhNodeId id);
     /// Fills m_boxes with the node's query boxes (tight: CHC++); false when nothing of it needs drawing.
     bool gatherBoxes(BvhNodeId id, bool tight);
+    /// The query's answer; a fetch of a result not ready yet is counted and timed as a wait.
+    std::uint64_t fetch(QueryHandle q, bool ready);
     void gatherTight(BvhNodeId id, int depth);
 
     void renderZb();

@@ -1,0 +1,219 @@
+// Instanced drawing of an rgvc scene (balls and boxes) in a GL 4.5 context.
+//
+//   auto ctx = rgvc::createOsMesaContext(640, 480);
+//   rgvc::SceneRenderer renderer(*ctx);                  // uploads the sphere and box meshes once
+//   renderer.setObject(7, rgvc::Ball<3>{{0, 0, -5}, 1}); // adds, or moves when id 7 is already there
+//   rgvc::GlFramebuffer target(*ctx, 640, 480, rgvc::ColourFormat::Rgba8);
+//   target.clear();                                      // binds it too
+//   renderer.setCamera(camera);
+//   renderer.draw(ids, rgvc::DrawOutput::Colour);        // any subset, in two instanced draws
+//
+// What lives where. The meshes (one sphere, one unit box) are uploaded once. Every object has a slot in
+// one instance buffer (a shader storage buffer: offset and scale of the unit mesh); setObject writes the
+// CPU copy and marks the slot dirty, and the next draw uploads only dirty slots, merged into runs
+// (glBufferSubData per run): a frame where 10 of 100,000 objects moved uploads about 10 instances. A
+// draw gathers the slots of the requested ids into a per-draw list, streamed into a ring buffer and read
+// as an instanced vertex attribute through the base instance, so drawing a subset never touches the
+// instance buffer.
+//
+// The camera (rgvc::Camera3 has no near plane): the projection is perspective with a near plane at
+// SceneRendererOptions::nearPlane and no far plane, reversed depth (1 at the near plane, 0 at infinity,
+// GL_GEQUAL) into float depth buffers (GlFramebuffer). A finite Camera3::far cuts the view by the ball
+// of that radius, as the culler's view region does, by discarding fragments farther than `far`. Geometry
+// nearer than the near plane is clipped: an object closer than that to the camera is not drawn there.
+//
+// Precision: positions are sent relative to an anchor (the first object's centre), and the camera
+// transform is applied relative to the eye in the vertex shader, so float rounding is relative to the
+// scene's size, not to its distance from the world origin. Box corners are rounded inwards to float
+// (the drawn box lies in the analytic one); query boxes (drawBoxes) outwards (they cover their box).
+//
+// The outer/inner model (seed 004 §5.1): a drawn sphere is the mesh scaled by the ball's radius, inside
+// the analytic ball; sphereInradius() * radius is the radius of a ball inside what is drawn.
+#pragma once
+
+#include "rgvc/dynamics/Culler.hpp"
+#include "rgvc/grid/Camera.hpp"
+#include "rgvc/grid/Shapes.hpp"
+#include "rgvc/render/gl/GlContext.hpp"
+#include "rgvc/render/gl/Meshes.hpp"
+
+#include <glm/mat4x4.hpp>
+
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+namespace rgvc {
+
+struct SceneRendererOptions {
+    /// The unit-sphere mesh balls are drawn with (inscribed in the unit sphere). Default: icosphere
+    /// level 3, 1,280 triangles, inradius 0.9951.
+    Mesh sphere = icosphere(3);
+    /// [World units] distance of the near clipping plane. [Limit] > 0. With reversed float depth the
+    /// depth precision does not depend on it; it only clips what is nearer. 1e-3 suits scenes whose
+    /// objects are 0.01 to 1,000 units; scale it with the scene.
+    double nearPlane = 1e-3;
+    /// Draw only front faces. Off by default: a camera inside an object then sees the object's inside
+    /// (it hides everything else, as a closed solid does), which the item buffer needs.
+    bool cullBackFaces = false;
+};
+
+/// What draw() writes into the bound framebuffer's colour attachment.
+enum class DrawOutput : std::uint8_t {
+    Colour, ///< RGBA8 target: a colour per object, shaded by the face's angle to the view
+    /// R32ui target: the object's item id (itemOf), 0 where nothing is drawn. Drawn in two passes so
+    /// that a face seen from inside an object (a back face: the camera is in that object) hides what
+    /// lies on it: back faces first, pulled nearer by a polygon offset, then front faces with a strict
+    /// depth test. A face of Y lying on X's inner side is reached only through X's interior, so Y does
+    /// not show there (scene-format.md's visibility), and coplanar ties go that way.
+    ItemId,
+};
+
+/// Counters since construction or resetStats().
+struct RenderStats {
+    std::uint64_t objectsDrawn = 0;   ///< instances drawn by draw()
+    std::uint64_t trianglesDrawn = 0; ///< their triangles
+    std::uint64_t drawCalls = 0;      ///< instanced draw calls (objects and boxes)
+    std::uint64_t boxesDrawn = 0;     ///< boxes drawn by drawBoxes()
+    std::uint64_t instancesUploaded = 0; ///< instance records sent to the GPU (moved or added objects)
+    std::uint64_t uploadCalls = 0;       ///< glBufferSubData / glBufferData calls for them
+};
+
+class SceneRenderer {
+public:
+    /// Builds the programs and uploads the meshes in `context`, which must be current.
+    /// @throws GlError when a shader does not compile or a buffer cannot be made; InvalidInput for bad
+    /// options (nearPlane <= 0, an empty sphere mesh).
+    explicit SceneRenderer(GlContext& context, const SceneRendererOptions& options = {});
+    ~SceneRenderer();
+    SceneRenderer(const SceneRenderer&) = delete;
+    SceneRenderer& operator=(const SceneRenderer&) = delete;
+
+    /// Adds object `id` with `shape` ([World units]; a Ball<3> or a Box<3>), or moves it (or changes its
+    /// shape) when it is already there. The GPU copy is updated at the next draw. O(1).
+    /// @throws InvalidInput for an invalid shape (validateShape); the renderer is unchanged.
+    void setObject(ObjectId id, const Shape<3>& shape);
+    /// Removes `id` (its slot is reused by a later setObject). Unknown ids are ignored.
+    void removeObject(ObjectId id);
+    bool contains(ObjectId id) const { return m_slotOf.count(id) != 0; }
+    std::size_t objectCount() const { return m_slotOf.size(); }
+    /// Every object's id, ascending.
+    std::vector<ObjectId> ids() const;
+
+    /// The item id draw(..., ItemId) writes for `id` (>= 1; 0 is "nothing"). Stable until `id` is
+    /// removed. @throws InvalidInput for an unknown id.
+    std::uint32_t itemOf(ObjectId id) const;
+    /// The object of item `item`, false when no object has it now.
+    bool objectOfItem(std::uint32_t item, ObjectId& id) const;
+
+    /// Sets the camera of the following draws. [Limit] a valid camera (validateCamera); its aspect is
+    /// used as given, whatever the target's size (pixels are then not square). `nearPlane` ([World
+    /// units], > 0) overrides the options' near plane for this camera; 0 keeps the options' value.
+    /// @throws InvalidInput for an invalid camera or a negative nearPlane.
+    void setCamera(const Camera3& camera, double nearPlane = 0);
+    const Camera3& camera() const { return m_camera; }
+
+    /// Draws the objects `ids` (in any order; duplicates are drawn twice) into the bound framebuffer,
+    /// depth test and depth writes on, colour writes on. [Limit] every id is held; a setCamera() before.
+    /// @throws InvalidInput naming an unknown id (before anything is drawn).
+    void draw(std::span<const ObjectId> ids, DrawOutput output);
+    /// Draws every object.
+    void drawAll(DrawOutput output);
+    /// Draws `boxes` ([World units], rounded outwards to float) with depth test on and colour and depth
+    /// writes off, in one instanced draw: what an occlusion query counts. Restores the write masks.
+    void drawBoxes(std::span<const Box<3>> boxes);
+
+    /// True when `point` ([World units]) lies in what is drawn for `id` (the float box, or the sphere
+    /// mesh's convex polyhedron) grown by `tolerance` ([World units], >= 0; on the surface counts).
+    /// [Limit] id is held. O(1) for boxes, O(triangles) for spheres whose ball holds the point.
+    bool drawnShapeContains(ObjectId id, const Vec3& point, double tolerance = 0) const;
+    /// [World units] a lower bound of the distance from `point` to what is drawn for `id` (0 inside).
+    double distanceToDrawn(ObjectId id, const Vec3& point) const;
+    /// [World units] the largest distance of any drawn vertex from the anchor, positions are sent
+    /// relative to: the scale that float rounding of drawn positions is relative to (about 6e-8 of it).
+    double drawnExtent() const { return m_extent; }
+
+    /// [World units] the ObjectDesc::occluderInset that puts the culler's occluder model of `shape` inside
+    /// what this renderer draws for it: radius * (1 - sphereInradius()) for a ball, plus a margin of 1e-6
+    /// of the shape's distance from the anchor and size for float rounding (boxes: that margin only).
+    /// Give the culler the analytic shape (the outer model: it contains what is drawn) with this inset.
+    double occluderInset(const Shape<3>& shape) const;
+
+    /// The unit-sphere mesh and its inradius: a drawn ball of radius r contains the ball of radius
+    /// r * sphereInradius() (the inner model) and lies in the ball of radius r (the outer model).
+    const Mesh& sphereMesh() const { return m_options.sphere; }
+    double sphereInradius() const { return m_options.sphere.inradius; }
+    /// [World units] the near plane of the options, and of the current camera.
+    double nearPlane() const { return m_options.nearPlane; }
+    double cameraNearPlane() const { return m_cameraNear; }
+
+    const RenderStats& stats() const { return m_stats; }
+    void resetStats() { m_stats = {}; }
+    GlContext& context() const { return m_context; }
+
+private:
+    enum Kind : std::uint8_t { SphereKind = 0, BoxKind = 1, KindCount = 2 };
+    struct Instance {
+        float offset[4]; ///< xyz: model origin relative to the anchor
+        float scale[4];  ///< xyz: per-axis scale of the unit mesh
+    };
+    struct Slot {
+        ObjectId id = 0;
+        Kind kind = SphereKind;
+        bool used = false;
+        bool dirty = false;
+    };
+    struct Ring {
+        GLuint buffer = 0;
+        std::size_t capacity = 0, cursor = 0; // bytes
+    };
+
+    void init();
+    void release();
+    void uploadDirty();
+    void applyState();
+    /// Appends `bytes` to the ring; returns the byte offset where they start.
+    std::size_t stream(Ring& ring, const void* data, std::size_t bytes, std::size_t alignment);
+    void drawSlots(DrawOutput output);
+    void drawLists();
+
+    GlContext& m_context;
+    const GlFunctions& m_gl;
+    SceneRendererOptions m_options;
+
+    // CPU side of the objects.
+    std::unordered_map<ObjectId, std::uint32_t> m_slotOf;
+    std::vector<Slot> m_slots;
+    std::vector<Instance> m_instances;
+    std::vector<std::uint32_t> m_freeSlots, m_dirtySlots;
+    bool m_hasAnchor = false;
+    glm::dvec3 m_anchor{0.0};
+    double m_extent = 0;
+    std::size_t m_gpuCapacity = 0; // instance slots allocated in m_instanceBuffer
+
+    // The sphere mesh's face planes (unit normal, offset), for drawnShapeContains.
+    std::vector<glm::dvec4> m_spherePlanes;
+
+    // Per-draw scratch: slots of the requested ids, by kind.
+    std::vector<std::uint32_t> m_drawList[KindCount];
+
+    // Camera.
+    Camera3 m_camera;
+    glm::mat4 m_viewProjection{1.0f};
+    glm::vec3 m_eye{0.0f};
+    float m_farSquared = 0;
+    double m_cameraNear = 0;
+    bool m_farClip = false;
+
+    // GL objects.
+    GLuint m_meshVbo = 0, m_meshIbo = 0, m_objectVao = 0, m_boxVao = 0, m_instanceBuffer = 0;
+    Ring m_listRing, m_boxRing;
+    GLuint m_objectProgram[2][2] = {}; // [output][farClip]
+    GLuint m_boxProgram[2] = {};       // [farClip]
+    GLint m_indexOffset[KindCount] = {}, m_indexCount[KindCount] = {}, m_baseVertex[KindCount] = {};
+
+    RenderStats m_stats;
+};
+
+} // namespace rgvc

@@ -1,0 +1,534 @@
+#include "rgvc/render/gl/SceneRenderer.hpp"
+
+#include "GlProgram.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+namespace rgvc {
+
+namespace {
+
+// Uniform locations, fixed in the shaders (layout(location)) so that no lookup happens per draw.
+constexpr GLint kViewProjection = 0, kEye = 1, kFarSquared = 2;
+// Vertex attributes.
+constexpr GLuint kPosition = 0, kSlot = 1, kBoxMin = 2, kBoxMax = 3;
+
+const char* const kObjectVertex = R"(
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in uint aSlot;
+struct Instance { vec4 offset; vec4 scale; };
+layout(std430, binding = 0) readonly buffer Instances { Instance instances[]; };
+layout(location = 0) uniform mat4 uViewProjection;
+layout(location = 1) uniform vec3 uEye;
+out vec3 vFromEye;
+flat out uint vItem;
+void main() {
+    Instance inst = instances[aSlot];
+    vec3 p = (inst.offset.xyz - uEye) + aPosition * inst.scale.xyz;
+    vFromEye = p;
+    vItem = aSlot + 1u;
+    gl_Position = uViewProjection * vec4(p, 1.0);
+}
+)";
+
+const char* const kObjectFragment = R"(
+in vec3 vFromEye;
+flat in uint vItem;
+layout(location = 2) uniform float uFarSquared;
+#if ITEM_OUTPUT
+layout(location = 0) out uint oItem;
+#else
+layout(location = 0) out vec4 oColour;
+#endif
+void main() {
+#if FAR_CLIP
+    if (dot(vFromEye, vFromEye) > uFarSquared) discard;
+#endif
+#if ITEM_OUTPUT
+    oItem = vItem;
+#else
+    // A colour per item, darker where the face turns away from the view.
+    vec3 n = normalize(cross(dFdx(vFromEye), dFdy(vFromEye)));
+    float light = 0.35 + 0.65 * abs(dot(n, normalize(vFromEye)));
+    uint h = vItem * 2654435761u;
+    vec3 base = 0.3 + 0.7 * vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0;
+    oColour = vec4(base * light, 1.0);
+#endif
+}
+)";
+
+const char* const kBoxVertex = R"(
+layout(location = 0) in vec3 aPosition;
+layout(location = 2) in vec3 aMin;
+layout(location = 3) in vec3 aMax;
+layout(location = 0) uniform mat4 uViewProjection;
+layout(location = 1) uniform vec3 uEye;
+out vec3 vFromEye;
+void main() {
+    vec3 p = (aMin - uEye) + aPosition * (aMax - aMin);
+    vFromEye = p;
+    gl_Position = uViewProjection * vec4(p, 1.0);
+}
+)";
+
+const char* const kBoxFragment = R"(
+in vec3 vFromEye;
+layout(location = 2) uniform float uFarSquared;
+void main() {
+#if FAR_CLIP
+    if (dot(vFromEye, vFromEye) > uFarSquared) discard;
+#endif
+}
+)";
+
+/// The float nearest x towards -infinity (down) or +infinity (up).
+float floatDown(double x) {
+    float f = float(x);
+    return double(f) > x ? std::nextafter(f, -INFINITY) : f;
+}
+float floatUp(double x) {
+    float f = float(x);
+    return double(f) < x ? std::nextafter(f, INFINITY) : f;
+}
+
+} // namespace
+
+SceneRenderer::SceneRenderer(GlContext& context, const SceneRendererOptions& options)
+    : m_context(context), m_gl(context.gl()), m_options(options) {
+    if (!(m_options.nearPlane > 0) || !std::isfinite(m_options.nearPlane))
+        throw InvalidInput("SceneRendererOptions.nearPlane", "must be finite and > 0");
+    if (m_options.sphere.indices.empty() || m_options.sphere.positions.empty())
+        throw InvalidInput("SceneRendererOptions.sphere", "the sphere mesh is empty");
+    try {
+        init();
+    } catch (...) {
+        release(); // deleting names that were never made (0) is a no-op
+        throw;
+    }
+}
+
+void SceneRenderer::init() {
+    const GlFunctions& gl = m_gl;
+    while (gl.GetError() != GL_NO_ERROR) {
+    }
+
+    for (int output = 0; output < 2; ++output)
+        for (int far = 0; far < 2; ++far) {
+            const std::string defines = std::string("#define ITEM_OUTPUT ") + (output ? "1" : "0") + "\n#define FAR_CLIP " +
+                                        (far ? "1" : "0") + "\n";
+            m_objectProgram[output][far] = gl_detail::linkProgram(gl, "object", kObjectVertex, kObjectFragment, defines);
+        }
+    for (int far = 0; far < 2; ++far)
+        m_boxProgram[far] = gl_detail::linkProgram(gl, "query box", kBoxVertex, kBoxFragment,
+                                                   std::string("#define FAR_CLIP ") + (far ? "1" : "0") + "\n");
+
+    const Mesh& sphere = m_options.sphere;
+    for (std::size_t t = 0; t + 2 < sphere.indices.size(); t += 3) {
+        const glm::dvec3 a(sphere.positions[sphere.indices[t]]), b(sphere.positions[sphere.indices[t + 1]]),
+            c(sphere.positions[sphere.indices[t + 2]]);
+        const glm::dvec3 n = glm::cross(b - a, c - a);
+        if (glm::length(n) > 0) m_spherePlanes.emplace_back(glm::normalize(n), glm::dot(glm::normalize(n), a));
+    }
+
+    // Both meshes in one vertex and one index buffer: the sphere first, then the unit box.
+    const Mesh box = unitBox();
+    const Mesh* meshes[KindCount] = {&m_options.sphere, &box};
+    std::vector<glm::vec3> positions;
+    std::vector<std::uint32_t> indices;
+    for (int k = 0; k < KindCount; ++k) {
+        m_baseVertex[k] = GLint(positions.size());
+        m_indexOffset[k] = GLint(indices.size());
+        m_indexCount[k] = GLint(meshes[k]->indices.size());
+        positions.insert(positions.end(), meshes[k]->positions.begin(), meshes[k]->positions.end());
+        indices.insert(indices.end(), meshes[k]->indices.begin(), meshes[k]->indices.end());
+    }
+    gl.GenBuffers(1, &m_meshVbo);
+    gl.BindBuffer(GL_ARRAY_BUFFER, m_meshVbo);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(positions.size() * sizeof(glm::vec3)), positions.data(), GL_STATIC_DRAW);
+    gl.GenBuffers(1, &m_meshIbo);
+    gl.GenBuffers(1, &m_instanceBuffer);
+    gl.GenBuffers(1, &m_listRing.buffer);
+    gl.GenBuffers(1, &m_boxRing.buffer);
+
+    // Objects: mesh positions per vertex, the slot per instance (from the draw list ring).
+    gl.GenVertexArrays(1, &m_objectVao);
+    gl.BindVertexArray(m_objectVao);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_meshIbo); // recorded in the VAO
+    gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(std::uint32_t)), indices.data(), GL_STATIC_DRAW);
+    gl.BindBuffer(GL_ARRAY_BUFFER, m_meshVbo);
+    gl.EnableVertexAttribArray(kPosition);
+    gl.VertexAttribPointer(kPosition, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+    m_listRing.capacity = 1 << 20;
+    gl.BindBuffer(GL_ARRAY_BUFFER, m_listRing.buffer);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_listRing.capacity), nullptr, GL_STREAM_DRAW);
+    gl.EnableVertexAttribArray(kSlot);
+    gl.VertexAttribIPointer(kSlot, 1, GL_UNSIGNED_INT, sizeof(std::uint32_t), nullptr);
+    gl.VertexAttribDivisor(kSlot, 1);
+
+    // Query boxes: the unit box per vertex, (min, max) per instance (from the box ring).
+    gl.GenVertexArrays(1, &m_boxVao);
+    gl.BindVertexArray(m_boxVao);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_meshIbo);
+    gl.BindBuffer(GL_ARRAY_BUFFER, m_meshVbo);
+    gl.EnableVertexAttribArray(kPosition);
+    gl.VertexAttribPointer(kPosition, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+    m_boxRing.capacity = 1 << 20;
+    gl.BindBuffer(GL_ARRAY_BUFFER, m_boxRing.buffer);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_boxRing.capacity), nullptr, GL_STREAM_DRAW);
+    gl.EnableVertexAttribArray(kBoxMin);
+    gl.VertexAttribPointer(kBoxMin, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+    gl.VertexAttribDivisor(kBoxMin, 1);
+    gl.EnableVertexAttribArray(kBoxMax);
+    gl.VertexAttribPointer(kBoxMax, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
+    gl.VertexAttribDivisor(kBoxMax, 1);
+    gl.BindVertexArray(0);
+    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
+
+    Camera3 defaultCamera;
+    defaultCamera.direction = {0, 0, -1};
+    setCamera(defaultCamera);
+    checkGlError(gl, "creating the scene renderer");
+}
+
+SceneRenderer::~SceneRenderer() { release(); }
+
+void SceneRenderer::release() {
+    const GlFunctions& gl = m_gl;
+    for (auto& p : m_objectProgram)
+        for (GLuint& q : p)
+            if (q) gl.DeleteProgram(q), q = 0;
+    for (GLuint& q : m_boxProgram)
+        if (q) gl.DeleteProgram(q), q = 0;
+    GLuint buffers[] = {m_meshVbo, m_meshIbo, m_instanceBuffer, m_listRing.buffer, m_boxRing.buffer};
+    gl.DeleteBuffers(5, buffers);
+    GLuint vaos[] = {m_objectVao, m_boxVao};
+    gl.DeleteVertexArrays(2, vaos);
+    m_meshVbo = m_meshIbo = m_instanceBuffer = m_listRing.buffer = m_boxRing.buffer = m_objectVao = m_boxVao = 0;
+}
+
+void SceneRenderer::setObject(ObjectId id, const Shape<3>& shape) {
+    Shape<3> s = shape;
+    validateShape<3>(s, [&] { return "object " + std::to_string(id); });
+    const Box<3> bounds = boundsOf<3>(s);
+    if (!m_hasAnchor) {
+        m_anchor = 0.5 * (bounds.min + bounds.max);
+        m_hasAnchor = true;
+    }
+    std::uint32_t slot;
+    auto it = m_slotOf.find(id);
+    if (it != m_slotOf.end()) {
+        slot = it->second;
+    } else {
+        if (!m_freeSlots.empty()) {
+            slot = m_freeSlots.back();
+            m_freeSlots.pop_back();
+        } else {
+            slot = std::uint32_t(m_slots.size());
+            m_slots.emplace_back();
+            m_instances.emplace_back();
+        }
+        m_slotOf.emplace(id, slot);
+        m_slots[slot].id = id;
+        m_slots[slot].used = true;
+    }
+    Instance& inst = m_instances[slot];
+    Slot& info = m_slots[slot];
+    if (const Ball<3>* ball = std::get_if<Ball<3>>(&s)) {
+        info.kind = SphereKind;
+        const glm::dvec3 c = ball->center - m_anchor;
+        for (int a = 0; a < 3; ++a) inst.offset[a] = float(c[a]);
+        // Rounded down: the mesh, inside the unit sphere, stays inside the ball (up to the centre's rounding).
+        const float r = floatDown(ball->radius);
+        inst.scale[0] = inst.scale[1] = inst.scale[2] = r;
+    } else {
+        const Box<3>& box = std::get<Box<3>>(s);
+        info.kind = BoxKind;
+        for (int a = 0; a < 3; ++a) {
+            // Inwards: min rounded up, max down (then the extent down), so the drawn box lies in the analytic one.
+            const float lo = floatUp(box.min[a] - m_anchor[a]);
+            const float hi = floatDown(box.max[a] - m_anchor[a]);
+            inst.offset[a] = lo;
+            inst.scale[a] = std::max(0.0f, floatDown(double(hi) - double(lo)));
+        }
+    }
+    inst.offset[3] = inst.scale[3] = 0;
+    for (int a = 0; a < 3; ++a)
+        m_extent = std::max(m_extent, std::abs(double(inst.offset[a])) + std::abs(double(inst.scale[a])));
+    if (!info.dirty) {
+        info.dirty = true;
+        m_dirtySlots.push_back(slot);
+    }
+}
+
+void SceneRenderer::removeObject(ObjectId id) {
+    auto it = m_slotOf.find(id);
+    if (it == m_slotOf.end()) return;
+    const std::uint32_t slot = it->second;
+    m_slotOf.erase(it);
+    m_slots[slot].used = false;
+    m_freeSlots.push_back(slot);
+    // The GPU record stays as it was: nothing draws an unused slot.
+}
+
+std::vector<ObjectId> SceneRenderer::ids() const {
+    std::vector<ObjectId> r;
+    r.reserve(m_slotOf.size());
+    for (const auto& [id, slot] : m_slotOf) r.push_back(id);
+    std::sort(r.begin(), r.end());
+    return r;
+}
+
+std::uint32_t SceneRenderer::itemOf(ObjectId id) const {
+    auto it = m_slotOf.find(id);
+    if (it == m_slotOf.end()) throw InvalidInput("ids", "object " + std::to_string(id) + " is not in the renderer");
+    return it->second + 1;
+}
+
+bool SceneRenderer::objectOfItem(std::uint32_t item, ObjectId& id) const {
+    if (item == 0 || item > m_slots.size() || !m_slots[item - 1].used) return false;
+    id = m_slots[item - 1].id;
+    return true;
+}
+
+void SceneRenderer::setCamera(const Camera3& camera, double nearPlane) {
+    validateCamera<3>(camera);
+    if (!(nearPlane >= 0) || !std::isfinite(nearPlane)) throw InvalidInput("nearPlane", "must be finite and >= 0");
+    const double near = nearPlane > 0 ? nearPlane : m_options.nearPlane;
+    const bool upGiven = camera.up.x != 0 || camera.up.y != 0 || camera.up.z != 0;
+    const glm::dvec3 forward = glm::normalize(camera.direction);
+    const glm::dvec3 up = upGiven ? glm::normalize(camera.up) : glm::dvec3(0, 1, 0);
+    if (!(glm::length(glm::cross(forward, up)) > 1e-12)) throw InvalidInput("camera.up", "must not be parallel to camera.direction");
+    m_camera = camera;
+    // The view rotation only (the eye is subtracted in the vertex shader); glm::lookAt's right = forward x
+    // up, true up = right x forward, as rgvc's ViewFrustum builds them.
+    const glm::dmat4 view = glm::lookAt(glm::dvec3(0.0), forward, up);
+    // Reversed-depth infinite perspective for clip z in [0, 1]: z_clip = near, w_clip = -z_view, so depth
+    // = near / distance along the view axis: 1 at the near plane, towards 0 at infinity.
+    const double f = 1.0 / std::tan(0.5 * glm::radians(camera.fovDeg));
+    glm::dmat4 projection(0.0);
+    projection[0][0] = f / camera.aspect;
+    projection[1][1] = f;
+    projection[2][3] = -1.0;
+    projection[3][2] = near;
+    m_cameraNear = near;
+    m_viewProjection = glm::mat4(projection * view);
+    m_eye = glm::vec3(camera.position - m_anchor);
+    m_farClip = std::isfinite(camera.far);
+    m_farSquared = m_farClip ? float(camera.far * camera.far) : 0.0f;
+}
+
+void SceneRenderer::uploadDirty() {
+    const GlFunctions& gl = m_gl;
+    gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, m_instanceBuffer);
+    if (m_gpuCapacity < m_instances.size()) {
+        // Grown: reallocate (doubling) and send everything once.
+        m_gpuCapacity = std::max<std::size_t>(1024, std::max(m_instances.size(), 2 * m_gpuCapacity));
+        gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(m_gpuCapacity * sizeof(Instance)), nullptr, GL_DYNAMIC_DRAW);
+        gl.BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, GLsizeiptr(m_instances.size() * sizeof(Instance)), m_instances.data());
+        m_stats.instancesUploaded += m_instances.size();
+        m_stats.uploadCalls += 2;
+        for (std::uint32_t s : m_dirtySlots) m_slots[s].dirty = false;
+        m_dirtySlots.clear();
+        return;
+    }
+    if (m_dirtySlots.empty()) return;
+    std::sort(m_dirtySlots.begin(), m_dirtySlots.end());
+    // Runs of dirty slots, joined across gaps of up to 8 clean slots (256 bytes): one call for a cluster
+    // of movers, without re-sending much that did not move.
+    std::size_t i = 0;
+    while (i < m_dirtySlots.size()) {
+        std::size_t j = i;
+        while (j + 1 < m_dirtySlots.size() && m_dirtySlots[j + 1] - m_dirtySlots[j] <= 9) ++j;
+        const std::uint32_t first = m_dirtySlots[i], last = m_dirtySlots[j];
+        const std::size_t count = std::size_t(last - first + 1);
+        gl.BufferSubData(GL_SHADER_STORAGE_BUFFER, GLintptr(first * sizeof(Instance)), GLsizeiptr(count * sizeof(Instance)),
+                         &m_instances[first]);
+        m_stats.instancesUploaded += count;
+        ++m_stats.uploadCalls;
+        i = j + 1;
+    }
+    for (std::uint32_t s : m_dirtySlots) m_slots[s].dirty = false;
+    m_dirtySlots.clear();
+}
+
+std::size_t SceneRenderer::stream(Ring& ring, const void* data, std::size_t bytes, std::size_t alignment) {
+    const GlFunctions& gl = m_gl;
+    gl.BindBuffer(GL_ARRAY_BUFFER, ring.buffer);
+    std::size_t at = (ring.cursor + alignment - 1) / alignment * alignment;
+    if (at + bytes > ring.capacity) {
+        // Orphan the storage (the driver keeps the old one alive for draws in flight) and start over;
+        // grow when one draw needs more than all of it.
+        while (ring.capacity < bytes) ring.capacity *= 2;
+        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(ring.capacity), nullptr, GL_STREAM_DRAW);
+        at = 0;
+    }
+    gl.BufferSubData(GL_ARRAY_BUFFER, GLintptr(at), GLsizeiptr(bytes), data);
+    ring.cursor = at + bytes;
+    return at;
+}
+
+void SceneRenderer::applyState() {
+    const GlFunctions& gl = m_gl;
+    gl.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_GEQUAL); // reversed depth: nearer is greater; ties pass (a face on a face shows)
+    if (m_options.cullBackFaces) {
+        gl.Enable(GL_CULL_FACE);
+        gl.CullFace(GL_BACK);
+        gl.FrontFace(GL_CCW);
+    } else {
+        gl.Disable(GL_CULL_FACE);
+    }
+}
+
+void SceneRenderer::draw(std::span<const ObjectId> ids, DrawOutput output) {
+    for (auto& list : m_drawList) list.clear();
+    for (ObjectId id : ids) {
+        auto it = m_slotOf.find(id);
+        if (it == m_slotOf.end()) {
+            for (auto& list : m_drawList) list.clear();
+            throw InvalidInput("ids", "object " + std::to_string(id) + " is not in the renderer");
+        }
+        m_drawList[m_slots[it->second].kind].push_back(it->second);
+    }
+    drawSlots(output);
+}
+
+void SceneRenderer::drawAll(DrawOutput output) {
+    for (auto& list : m_drawList) list.clear();
+    for (std::uint32_t s = 0; s < m_slots.size(); ++s)
+        if (m_slots[s].used) m_drawList[m_slots[s].kind].push_back(s);
+    drawSlots(output);
+}
+
+void SceneRenderer::drawSlots(DrawOutput output) {
+    if (m_drawList[SphereKind].empty() && m_drawList[BoxKind].empty()) return;
+    const GlFunctions& gl = m_gl;
+    uploadDirty();
+    applyState();
+    gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    gl.DepthMask(GL_TRUE);
+    const GLuint program = m_objectProgram[output == DrawOutput::ItemId][m_farClip];
+    gl.UseProgram(program);
+    gl.UniformMatrix4fv(kViewProjection, 1, GL_FALSE, glm::value_ptr(m_viewProjection));
+    gl.Uniform3f(kEye, m_eye.x, m_eye.y, m_eye.z);
+    gl.Uniform1f(kFarSquared, m_farSquared);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m_instanceBuffer);
+    gl.BindVertexArray(m_objectVao);
+    if (output == DrawOutput::ItemId) {
+        // Back faces first, nearer by a few depth steps (reversed depth: a positive offset is nearer),
+        // so that they win ties against front faces on them; then front faces, strictly nearer only.
+        // Units only, no slope factor: at grazing angles the slope term pulls a back face nearer than
+        // another object's front face that truly lies in front of it, and the hidden object shows.
+        // 8 units of a float depth buffer are 8 steps of the depth's own exponent, ~1e-6 of it.
+        gl.Enable(GL_CULL_FACE);
+        gl.FrontFace(GL_CCW);
+        gl.CullFace(GL_FRONT);
+        gl.Enable(GL_POLYGON_OFFSET_FILL);
+        gl.PolygonOffset(0.0f, 8.0f);
+        drawLists();
+        gl.Disable(GL_POLYGON_OFFSET_FILL);
+        gl.CullFace(GL_BACK);
+        gl.DepthFunc(GL_GREATER);
+        drawLists();
+        gl.DepthFunc(GL_GEQUAL);
+        if (!m_options.cullBackFaces) gl.Disable(GL_CULL_FACE);
+    } else {
+        drawLists();
+    }
+    gl.BindVertexArray(0);
+    for (const auto& list : m_drawList) {
+        m_stats.objectsDrawn += list.size();
+    }
+    m_stats.trianglesDrawn += m_drawList[SphereKind].size() * std::uint64_t(m_indexCount[SphereKind] / 3) +
+                              m_drawList[BoxKind].size() * std::uint64_t(m_indexCount[BoxKind] / 3);
+}
+
+void SceneRenderer::drawLists() {
+    const GlFunctions& gl = m_gl;
+    for (int k = 0; k < KindCount; ++k) {
+        const std::vector<std::uint32_t>& list = m_drawList[k];
+        if (list.empty()) continue;
+        const std::size_t at = stream(m_listRing, list.data(), list.size() * sizeof(std::uint32_t), sizeof(std::uint32_t));
+        gl.DrawElementsInstancedBaseVertexBaseInstance(GL_TRIANGLES, m_indexCount[k], GL_UNSIGNED_INT,
+                                                       reinterpret_cast<void*>(std::size_t(m_indexOffset[k]) * sizeof(std::uint32_t)),
+                                                       GLsizei(list.size()), m_baseVertex[k], GLuint(at / sizeof(std::uint32_t)));
+        ++m_stats.drawCalls;
+    }
+}
+
+bool SceneRenderer::drawnShapeContains(ObjectId id, const Vec3& point, double tolerance) const {
+    const std::uint32_t slot = itemOf(id) - 1;
+    const Instance& inst = m_instances[slot];
+    const glm::dvec3 p = point - m_anchor;
+    const glm::dvec3 o(inst.offset[0], inst.offset[1], inst.offset[2]), sc(inst.scale[0], inst.scale[1], inst.scale[2]);
+    if (m_slots[slot].kind == BoxKind) {
+        for (int a = 0; a < 3; ++a)
+            if (!(p[a] >= o[a] - tolerance && p[a] <= o[a] + sc[a] + tolerance)) return false;
+        return true;
+    }
+    const glm::dvec3 q = (p - o) / sc.x; // in the unit mesh's frame
+    const double t = tolerance / sc.x;
+    if (!(glm::dot(q, q) <= (1.0 + t) * (1.0 + t))) return false;
+    for (const glm::dvec4& plane : m_spherePlanes)
+        if (!(glm::dot(glm::dvec3(plane), q) <= plane.w + t)) return false;
+    return true;
+}
+
+double SceneRenderer::occluderInset(const Shape<3>& shape) const {
+    const Box<3> b = boundsOf<3>(shape);
+    const glm::dvec3 anchor = m_hasAnchor ? m_anchor : 0.5 * (b.min + b.max);
+    const double reach = std::max(glm::length(b.min - anchor), glm::length(b.max - anchor)) + glm::length(b.max - b.min);
+    const double margin = 1e-6 * reach;
+    if (const Ball<3>* ball = std::get_if<Ball<3>>(&shape)) return ball->radius * (1.0 - m_options.sphere.inradius) + margin;
+    return margin;
+}
+
+double SceneRenderer::distanceToDrawn(ObjectId id, const Vec3& point) const {
+    const std::uint32_t slot = itemOf(id) - 1;
+    const Instance& inst = m_instances[slot];
+    const glm::dvec3 p = point - m_anchor;
+    const glm::dvec3 o(inst.offset[0], inst.offset[1], inst.offset[2]), sc(inst.scale[0], inst.scale[1], inst.scale[2]);
+    if (m_slots[slot].kind == BoxKind) return glm::length(p - glm::clamp(p, o, o + sc));
+    return std::max(0.0, glm::length(p - o) - sc.x); // the mesh lies in the ball of radius scale
+}
+
+void SceneRenderer::drawBoxes(std::span<const Box<3>> boxes) {
+    if (boxes.empty()) return;
+    const GlFunctions& gl = m_gl;
+    std::vector<float> data;
+    data.reserve(boxes.size() * 6);
+    for (const Box<3>& b : boxes) {
+        for (int a = 0; a < 3; ++a) data.push_back(floatDown(b.min[a] - m_anchor[a]));
+        for (int a = 0; a < 3; ++a) data.push_back(floatUp(b.max[a] - m_anchor[a]));
+    }
+    applyState();
+    gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    gl.DepthMask(GL_FALSE);
+    // A query box must count samples from inside too: never cull its faces.
+    gl.Disable(GL_CULL_FACE);
+    gl.UseProgram(m_boxProgram[m_farClip]);
+    gl.UniformMatrix4fv(kViewProjection, 1, GL_FALSE, glm::value_ptr(m_viewProjection));
+    gl.Uniform3f(kEye, m_eye.x, m_eye.y, m_eye.z);
+    gl.Uniform1f(kFarSquared, m_farSquared);
+    gl.BindVertexArray(m_boxVao);
+    const std::size_t stride = 6 * sizeof(float);
+    const std::size_t at = stream(m_boxRing, data.data(), data.size() * sizeof(float), stride);
+    gl.DrawElementsInstancedBaseVertexBaseInstance(GL_TRIANGLES, m_indexCount[BoxKind], GL_UNSIGNED_INT,
+                                                   reinterpret_cast<void*>(std::size_t(m_indexOffset[BoxKind]) * sizeof(std::uint32_t)),
+                                                   GLsizei(boxes.size()), m_baseVertex[BoxKind], GLuint(at / stride));
+    gl.BindVertexArray(0);
+    gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    gl.DepthMask(GL_TRUE);
+    ++m_stats.drawCalls;
+    m_stats.boxesDrawn += boxes.size();
+}
+
+} // namespace rgvc
