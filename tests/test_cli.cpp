@@ -5,6 +5,11 @@
 #include "SceneFile.hpp"
 #include "SceneMotion.hpp"
 #include "ExactVisibility2D.hpp"
+#ifdef RGVC_HAS_GL
+#include "rgvc/render/gl/GlContext.hpp"
+#include "rgvc/render/gl/ItemBuffer.hpp"
+#include "rgvc/render/gl/SceneRenderer.hpp"
+#endif
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
@@ -412,3 +417,52 @@ TEST_CASE("rgvc demo --frames runs the motion through the TBV path and draws T",
     Run bad = runRgvc("demo " + quote(scenePath("walk-2d.json")) + " --frames 0");
     CHECK(bad.status == 2);
 }
+
+#ifdef RGVC_HAS_GL
+TEST_CASE("cull --gl: the GL stage's pvs holds every object the item buffer of all objects shows", "[cli][gl]") {
+    // The contract (scene-format.md, `rgvc cull`): with --gl, pvs is the GL stage's answer, and still
+    // contains every object showing a pixel in an image of all objects at --gl-size. Checked per frame
+    // against an item buffer made here of the scene at that frame (the motion rule's placements), for each
+    // method. The GL stage may only shrink the CPU's PVS.
+    const std::string path = scenePath("spheres-3d.json");
+    rgvc::Scene scene = rgvc::loadScene(path);
+    const rgvc::SceneData3& data = *scene.as<3>();
+    const int w = 96, h = 64;
+    const std::size_t frames = 3;
+    auto context = rgvc::createOsMesaContext(w, h);
+    rgvc::SceneRenderer renderer(*context);
+    for (const char* method : {"chcpp", "chc", "sw"}) {
+        INFO("method " << method);
+        Run r = runRgvc("cull " + quote(path) + " --gl --gl-size 96x64 --gl-method " + method + " --frames " +
+                        std::to_string(frames));
+        INFO(r.err);
+        REQUIRE(r.status == 0);
+        const std::vector<json> lines = r.lines();
+        checkLines(lines, frames);
+        rgvc::SceneSimulator3 sim(data);
+        std::size_t shrunk = 0;
+        for (std::size_t t = 0; t < frames; ++t) {
+            if (t > 0) sim.step();
+            for (std::size_t i = 0; i < sim.size(); ++i) renderer.setObject(sim.idAt(i), sim.shapeAt(i));
+            const rgvc::ItemBufferImage img = rgvc::itemBuffer(renderer, data.cameraAt(t), w, h);
+            const std::vector<rgvc::ObjectId> pvs = lines[t]["pvs"].get<std::vector<rgvc::ObjectId>>();
+            const json& st = lines[t]["stats"];
+            CHECK(st["gl_method"] == method);
+            CHECK(st["gl_size"] == "96x64");
+            CHECK(st["gl_approximate"] == false);
+            CHECK(st["pvs_size"].get<std::size_t>() <= st["cpu_pvs_size"].get<std::size_t>());
+            shrunk += st["cpu_pvs_size"].get<std::size_t>() - st["pvs_size"].get<std::size_t>();
+            REQUIRE_FALSE(img.visible.empty());
+            for (rgvc::ObjectId id : img.visible) {
+                INFO("frame " << t << ", object " << id << " shows in the item buffer");
+                CHECK(std::binary_search(pvs.begin(), pvs.end(), id));
+            }
+        }
+        CHECK(shrunk > 0); // the queries culled something the grid kept
+    }
+    // Errors: a context that cannot be made, and a 2D scene.
+    checkRejected(runRgvc("cull " + quote(path) + " --gl --gl-size 20000x10"), "rgvc cull: --gl-size");
+    checkRejected(runRgvc("cull " + quote(scenePath("fig1-2d.json")) + " --gl"), "rgvc cull: --gl: ");
+    checkRejected(runRgvc("cull " + quote(path) + " --gl --gl-method nope"), "rgvc cull: --gl-method");
+}
+#endif

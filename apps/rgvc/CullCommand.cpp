@@ -16,12 +16,14 @@
 // building and printing the JSON. Frame 0 also reports setup_ms: building the culler and adding the
 // objects, which is one-off work and so not part of any frame.
 #include "Commands.hpp"
+#include "GlStage.hpp"
 
 #include "SceneFile.hpp"
 #include "SceneMotion.hpp"
 #include "rgvc/dynamics/Culler.hpp"
 #include "rgvc/grid/OcclusionBuffer2D.hpp"
 #include "rgvc/grid/OcclusionBuffer3D.hpp"
+#include "rgvc/render/gl/GlError.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -46,7 +48,7 @@ using Clock = std::chrono::steady_clock;
 const char* const kCullUsage =
     "usage: rgvc cull SCENE.json [--frames N] [--dump-objects] [--no-occlusion] [--no-extension]\n"
     "                 [--no-tbv] [--filled-tbv] [--caps-every-frame] [--buffer-rows R] [--buffer-bins B]\n"
-    "                 [--shells] [--image-rows R]\n"
+    "                 [--shells] [--image-rows R] [--gl] [--gl-method M] [--gl-size WxH]\n"
     "\n"
     "Runs N frames of a scene file (the format is described in the project README) and prints one\n"
     "JSON object per frame on stdout:\n"
@@ -69,6 +71,13 @@ const char* const kCullUsage =
     "  --shells         3D: the paper's per-voxel shell traversal with cap polygons instead of the\n"
     "                   brick tree with its occlusion image (the default; README \"How it works\")\n"
     "  --image-rows R   3D brick tree: rows of its occlusion image, 1..2048 (default 128)\n"
+    "  --gl             3D: the GL occlusion-query stage after the CPU pipeline (headless, OSMesa): pvs is\n"
+    "                   then the objects it draws (every object showing a pixel in an image of all objects\n"
+    "                   at --gl-size); the CPU's PVS size goes to stats.cpu_pvs_size, the GL figures to\n"
+    "                   stats.gl_*. Balls are drawn as icospheres of 1,280 triangles; the CPU culler then\n"
+    "                   uses each ball shrunk to its mesh's inradius as its occluder (occluderInset)\n"
+    "  --gl-method M    chcpp (default: CHC++), chc, sw (hierarchical stop-and-wait), vfc, zb\n"
+    "  --gl-size WxH    [pixels] the GL stage's image, 1..16384 each (default 640x480)\n"
     "  -h, --help       this text\n"
     "\n"
     "stats: cull_ms (library time of the frame, scene update included), update_ms (its scene-update\n"
@@ -95,6 +104,7 @@ struct CullArgs {
     std::size_t frames = 1;
     bool dumpObjects = false;
     bool help = false;
+    GlStageArgs gl;
     CullerOptions options; // the flags; objectsStayInGrid comes from the scene (sceneCullerOptions)
 };
 
@@ -147,6 +157,23 @@ CullArgs parseArgs(int argc, char** argv) {
                 a.options.occlusionBufferBins = int(parseInteger("--buffer-bins", argv[++i], 0, OcclusionBuffer2D::kMaxBins));
             } else if (arg == "--shells") {
                 a.options.hierarchical = false;
+            } else if (arg == "--gl") {
+                a.gl.enabled = true;
+            } else if (arg == "--gl-method") {
+                if (i + 1 >= argc) throw UsageError("--gl-method: missing value");
+                a.gl.method = argv[++i];
+                try {
+                    GlStage::checkMethod(a.gl.method);
+                } catch (const std::invalid_argument& e) {
+                    throw UsageError(e.what());
+                }
+            } else if (arg == "--gl-size") {
+                if (i + 1 >= argc) throw UsageError("--gl-size: missing value");
+                const std::string v = argv[++i];
+                const std::size_t x = v.find('x');
+                if (x == std::string::npos) throw UsageError("--gl-size: must be WxH, e.g. 640x480, got '" + v + "'");
+                a.gl.width = int(parseInteger("--gl-size width", v.substr(0, x), 1, 16384));
+                a.gl.height = int(parseInteger("--gl-size height", v.substr(x + 1), 1, 16384));
             } else if (arg == "--image-rows") {
                 if (i + 1 >= argc) throw UsageError("--image-rows: missing value");
                 a.options.traversalImageRows = int(parseInteger("--image-rows", argv[++i], 1, OcclusionBuffer3D::kMaxExtent));
@@ -231,9 +258,21 @@ template <int D> int runFrames(const Scene& scene, const SceneData<D>& data, con
     } catch (const std::bad_alloc&) {
         throw SceneError(scene.name, "grid.resolution", "grid too large for the available memory");
     }
+    // The GL stage (3D only) is made before any object is added: a context that cannot be made is a
+    // one-line error before anything is printed.
+    std::unique_ptr<GlStage> gl;
+    if constexpr (D == 3)
+        if (args.gl.enabled) gl = std::make_unique<GlStage>(args.gl);
     for (std::size_t i = 0; i < data.objects.size(); ++i) {
         try {
-            culler->addObject(data.objects[i].desc());
+            ObjectDesc<D> desc = data.objects[i].desc();
+            if constexpr (D == 3)
+                if (gl) {
+                    // The culler's occluder inside the drawn mesh (GlStage.hpp).
+                    if (const auto* b = std::get_if<Ball<3>>(&desc.shape)) desc.occluderInset = gl->ballInset(b->radius);
+                    gl->setObject(desc.id, desc.shape);
+                }
+            culler->addObject(desc);
         } catch (const InvalidInput& e) {
             rethrowAsScene(scene, "objects[" + std::to_string(i) + "]", e);
         }
@@ -256,10 +295,18 @@ template <int D> int runFrames(const Scene& scene, const SceneData<D>& data, con
             std::sort(pvs.begin(), pvs.end());
             pvs.erase(std::unique(pvs.begin(), pvs.end()), pvs.end());
         }
+        ojson stats = statsJson(r.stats);
+        if constexpr (D == 3)
+            if (gl) {
+                if (t > 0)
+                    for (std::size_t i = 0; i < sim.size(); ++i) gl->setObject(sim.idAt(i), sim.shapeAt(i));
+                const std::vector<ObjectId>& glPvs = gl->frame(data.cameraAt(t), pvs, stats);
+                pvs = glPvs;
+            }
         ojson line;
         line["frame"] = t;
         line["pvs"] = pvs;
-        line["stats"] = statsJson(r.stats);
+        line["stats"] = std::move(stats);
         if (t == 0) line["stats"]["setup_ms"] = setupMs;
         if (args.dumpObjects) {
             ojson objects = ojson::array();
@@ -299,10 +346,21 @@ int runCull(int argc, char** argv) {
     try {
         Scene scene = loadScene(args.scenePath);
         requireFrames(scene, args.frames);
+        if (args.gl.enabled && !GlStage::available()) {
+            std::cerr << "rgvc cull: --gl: this rgvc was built without the GL stage (RGVC_WITH_GL=OFF)\n";
+            return 2;
+        }
+        if (args.gl.enabled && scene.as<2>() != nullptr) {
+            std::cerr << "rgvc cull: --gl: the GL stage renders 3D scenes; " << args.scenePath << " is 2D\n";
+            return 2;
+        }
         if (const SceneData<2>* s2 = scene.as<2>()) return runFrames<2>(scene, *s2, args);
         return runFrames<3>(scene, *scene.as<3>(), args);
     } catch (const SceneError& e) {
         std::cerr << e.what() << "\n";
+        return 2;
+    } catch (const GlError& e) {
+        std::cerr << "rgvc cull: --gl: " << e.what() << "\n";
         return 2;
     }
 }
