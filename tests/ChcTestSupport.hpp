@@ -43,6 +43,18 @@ inline ChcScene randomChcScene(std::uint64_t seed) {
     }
     s.camera = r.camera;
     s.step = 0.4 * r.grid.voxelSize();
+    // A camera that sees nothing tests little: turn it towards an object (up reset to a valid one).
+    FakeQueryDevice probe(32, 24);
+    for (std::size_t i = 0; i < s.ids.size(); ++i) probe.setObject(s.ids[i], s.shapes[i]);
+    if (probe.referenceImage(s.camera, s.ids).visibleIds().empty() && !s.ids.empty()) {
+        const Box<3> b = boundsOf<3>(s.shapes[std::size_t(seed % s.ids.size())]);
+        const Vec3 d = 0.5 * (b.min + b.max) - s.camera.position;
+        if (lengthSquared<3>(d) > 0) {
+            s.camera.direction = d;
+            const Vec3 u = safeNormalize<3>(d);
+            s.camera.up = std::abs(u.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+        }
+    }
     return s;
 }
 
@@ -94,6 +106,29 @@ inline Camera3 walkCamera(const Camera3& start, double step, int f, double degPe
     c.position = p;
     c.direction = d;
     return c;
+}
+
+/// Per-node identity: stamp, parent, children and leaf objects.
+struct NodeShape {
+    std::uint32_t stamp;
+    BvhNodeId parent, c0, c1;
+    std::vector<std::uint32_t> objects;
+    bool operator==(const NodeShape&) const = default;
+};
+inline std::vector<NodeShape> shapeOf(const ObjectBvh& bvh) {
+    std::vector<NodeShape> v;
+    for (BvhNodeId id = 0; id < bvh.nodeCapacity(); ++id) {
+        const ObjectBvh::Node& n = bvh.node(id);
+        v.push_back({n.live ? n.stamp : 0, n.parent, n.child[0], n.child[1], n.objects});
+    }
+    return v;
+}
+
+inline Box<3> randomBox(std::mt19937_64& rng, double extent) {
+    using reference::seeded::uniform;
+    const Vec3 c{uniform(rng, 0, extent), uniform(rng, 0, extent), uniform(rng, 0, extent)};
+    const Vec3 h{uniform(rng, 0.1, 2), uniform(rng, 0.1, 2), uniform(rng, 0.1, 2)};
+    return {c - h, c + h};
 }
 
 /// The BVH's structure checked against recomputation: links, every box the exact union of what lies

@@ -1,5 +1,5 @@
-// The GL stage's traversal without GL: ObjectBvh (build, refit, insert, remove, rebuild) and ChcRenderer
-// (ZB, VFC, stop-and-wait, CHC, CHC++, Ideal) over the deterministic CPU device of FakeQueryDevice.hpp.
+// The GL stage's traversal without GL: ChcRenderer (ZB, VFC, stop-and-wait, CHC, CHC++, Ideal) over an
+// ObjectBvh (tested in test_object_bvh.cpp) and the deterministic CPU device of FakeQueryDevice.hpp.
 // The central check: with n_vp = 0, the image of every frame equals the image of drawing everything
 // (zero misses), on random scenes and coherent walks, with query latency.
 #include "ChcTestSupport.hpp"
@@ -23,29 +23,6 @@ constexpr CullMethod kQueryMethods[] = {CullMethod::StopAndWait, CullMethod::Chc
 std::vector<ObjectId> sorted(std::vector<ObjectId> v) {
     std::sort(v.begin(), v.end());
     return v;
-}
-
-/// Per-node identity: stamp, parent, children and leaf objects.
-struct NodeShape {
-    std::uint32_t stamp;
-    BvhNodeId parent, c0, c1;
-    std::vector<std::uint32_t> objects;
-    bool operator==(const NodeShape&) const = default;
-};
-std::vector<NodeShape> shapeOf(const ObjectBvh& bvh) {
-    std::vector<NodeShape> v;
-    for (BvhNodeId id = 0; id < bvh.nodeCapacity(); ++id) {
-        const ObjectBvh::Node& n = bvh.node(id);
-        v.push_back({n.live ? n.stamp : 0, n.parent, n.child[0], n.child[1], n.objects});
-    }
-    return v;
-}
-
-Box<3> randomBox(std::mt19937_64& rng, double extent) {
-    using reference::seeded::uniform;
-    const Vec3 c{uniform(rng, 0, extent), uniform(rng, 0, extent), uniform(rng, 0, extent)};
-    const Vec3 h{uniform(rng, 0.1, 2), uniform(rng, 0.1, 2), uniform(rng, 0.1, 2)};
-    return {c - h, c + h};
 }
 
 /// Runs `frames` frames of a walk with every method in `methods` (each its own renderer, one device)
@@ -93,134 +70,20 @@ WalkResult checkWalk(const ChcScene& s, const std::string& label, std::span<cons
 } // namespace
 
 // --------------------------------------------------------------------------------------------------
-// ObjectBvh
-
-TEST_CASE("ObjectBvh: a build bounds every object exactly, leaves hold at most maxLeafObjects", "[chc]") {
-    for (std::uint64_t seed : {1u, 2u, 3u}) {
-        std::mt19937_64 rng(seed);
-        std::vector<BvhItem> items;
-        const int n = seed == 1 ? 1 : (seed == 2 ? 37 : 500);
-        for (int i = 0; i < n; ++i) items.push_back({ObjectId(i) * 3 + 11, randomBox(rng, 100)});
-        if (seed == 3) // coincident centroids: the median split must still terminate
-            for (int i = 0; i < 50; ++i) items.push_back({ObjectId(10000 + i), Box<3>{Vec3(5.0), Vec3(6.0)}});
-        ObjectBvh bvh;
-        bvh.build(items);
-        INFO("seed " << seed);
-        CHECK(checkBvh(bvh).empty());
-        CHECK(bvh.objectCount() == items.size());
-        CHECK(bvh.degradation() == Approx(1.0));
-        for (BvhNodeId id = 0; id < bvh.nodeCapacity(); ++id)
-            if (bvh.node(id).isLeaf()) CHECK(bvh.node(id).objects.size() <= 4u);
-        for (const BvhItem& it : items) CHECK(bvh.contains(it.id));
-    }
-    ObjectBvh empty;
-    empty.build({});
-    CHECK(empty.root() == kNoBvhNode);
-    CHECK(checkBvh(empty).empty());
-}
-
-TEST_CASE("ObjectBvh: refit keeps node ids and contains moved objects; insert and remove keep other ids", "[chc]") {
-    std::mt19937_64 rng(77);
-    std::vector<BvhItem> items;
-    for (int i = 0; i < 300; ++i) items.push_back({ObjectId(i + 1), randomBox(rng, 50)});
-    ObjectBvh bvh;
-    bvh.build(items);
-    const std::vector<NodeShape> before = shapeOf(bvh);
-    // Moves, small and large: refit only.
-    for (int round = 0; round < 20; ++round) {
-        for (int k = 0; k < 40; ++k) {
-            const ObjectId id = ObjectId(rng() % 300 + 1);
-            const Vec3 t{reference::seeded::uniform(rng, -3, 3), reference::seeded::uniform(rng, -3, 3),
-                         reference::seeded::uniform(rng, -3, 3)};
-            Box<3> b = bvh.objectBounds(bvh.slotOf(id));
-            bvh.update(id, Box<3>{b.min + t, b.max + t});
-        }
-        REQUIRE(checkBvh(bvh).empty());
-    }
-    CHECK(shapeOf(bvh) == before); // same ids, stamps, links and leaves: only boxes changed
-    // Removes: two nodes go (the leaf and its parent) when a leaf empties; every other node stays.
-    for (int k = 0; k < 120; ++k) {
-        const std::vector<NodeShape> pre = shapeOf(bvh);
-        const ObjectId id = ObjectId(k * 2 + 1);
-        bvh.remove(id);
-        REQUIRE(checkBvh(bvh).empty());
-        CHECK_FALSE(bvh.contains(id));
-        const std::vector<NodeShape> post = shapeOf(bvh);
-        for (std::size_t i = 0; i < pre.size(); ++i)
-            if (post[i].stamp != 0 && pre[i].stamp != 0) CHECK(post[i].stamp == pre[i].stamp);
-    }
-    // Inserts: only a split leaf changes its stamp; new nodes get new stamps.
-    for (int k = 0; k < 200; ++k) {
-        const std::vector<NodeShape> pre = shapeOf(bvh);
-        bvh.insert(ObjectId(1000 + k), randomBox(rng, 50));
-        REQUIRE(checkBvh(bvh).empty());
-        const std::vector<NodeShape> post = shapeOf(bvh);
-        int changed = 0;
-        for (std::size_t i = 0; i < pre.size(); ++i)
-            if (pre[i].stamp != 0 && post[i].stamp != pre[i].stamp) ++changed;
-        CHECK(changed <= 1);
-    }
-    CHECK(bvh.objectCount() == 300 - 120 + 200);
-}
-
-TEST_CASE("ObjectBvh: refitted far apart, the tree degrades past the ratio and is rebuilt", "[chc]") {
-    std::mt19937_64 rng(5);
-    std::vector<BvhItem> items;
-    for (int i = 0; i < 400; ++i) items.push_back({ObjectId(i), randomBox(rng, 40)});
-    ObjectBvh bvh;
-    bvh.build(items);
-    CHECK_FALSE(bvh.rebuildIfDegraded());
-    for (int i = 0; i < 400; ++i) bvh.update(ObjectId(i), randomBox(rng, 40)); // a shuffle: boxes far from their leaves
-    CHECK(checkBvh(bvh).empty());
-    CHECK(bvh.degradation() > 2.0);
-    CHECK(bvh.rebuildIfDegraded());
-    CHECK(bvh.buildCount() == 2);
-    CHECK(bvh.degradation() == Approx(1.0));
-    CHECK(checkBvh(bvh).empty());
-}
-
-TEST_CASE("ObjectBvh: bad input is rejected with InvalidInput and changes nothing", "[chc]") {
-    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
-    ObjectBvh bvh;
-    bvh.build(std::vector<BvhItem>{{1, Box<3>{Vec3(0.0), Vec3(1.0)}}, {2, Box<3>{Vec3(2.0), Vec3(3.0)}}});
-    const std::vector<NodeShape> before = shapeOf(bvh);
-    CHECK_THROWS_AS(bvh.build(std::vector<BvhItem>{{1, Box<3>{Vec3(nan), Vec3(1.0)}}}), InvalidInput);
-    CHECK_THROWS_AS(bvh.build(std::vector<BvhItem>{{1, Box<3>{Vec3(0.0), Vec3(inf)}}}), InvalidInput);
-    CHECK_THROWS_AS(bvh.build(std::vector<BvhItem>{{1, Box<3>{Vec3(1.0), Vec3(0.0)}}}), InvalidInput);
-    CHECK_THROWS_AS(bvh.build(std::vector<BvhItem>{{7, Box<3>{Vec3(0.0), Vec3(1.0)}}, {7, Box<3>{Vec3(0.0), Vec3(1.0)}}}),
-                    InvalidInput);
-    CHECK_THROWS_AS(bvh.insert(1, Box<3>{Vec3(0.0), Vec3(1.0)}), InvalidInput);
-    CHECK_THROWS_AS(bvh.insert(3, Box<3>{Vec3(0.0), Vec3(nan)}), InvalidInput);
-    CHECK_THROWS_AS(bvh.update(9, Box<3>{Vec3(0.0), Vec3(1.0)}), InvalidInput);
-    CHECK_THROWS_AS(bvh.update(1, Box<3>{Vec3(-inf), Vec3(1.0)}), InvalidInput);
-    CHECK_THROWS_AS(bvh.remove(9), InvalidInput);
-    CHECK(shapeOf(bvh) == before);
-    CHECK(bvh.objectCount() == 2);
-    CHECK_THROWS_AS(ObjectBvh(BvhOptions{0, 2.0}), InvalidInput);
-    CHECK_THROWS_AS(ObjectBvh(BvhOptions{4, 1.0}), InvalidInput);
-    try {
-        bvh.update(1, Box<3>{Vec3(0.0), Vec3(nan)});
-        FAIL("no throw");
-    } catch (const InvalidInput& e) {
-        CHECK(e.field() == "bounds");
-    }
-}
-
-// --------------------------------------------------------------------------------------------------
 // The traversal: conservativeness
 
 TEST_CASE("CHC, CHC++, S&W and VFC miss nothing on random scenes and walks (n_vp = 0, with latency)", "[chc]") {
     const CullMethod methods[] = {CullMethod::Vfc, CullMethod::StopAndWait, CullMethod::Chc, CullMethod::ChcPlusPlus};
     int scenes = 0;
-    for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    for (std::uint64_t seed = 1; seed <= 100; ++seed) {
         const ChcScene s = randomChcScene(seed);
         for (int latency : {0, 3}) {
-            const WalkResult r = checkWalk(s, "random scene seed " + std::to_string(seed), methods, 8, latency);
+            const WalkResult r = checkWalk(s, "random scene seed " + std::to_string(seed), methods, 10, latency);
             CHECK(r.failures == 0);
         }
         ++scenes;
     }
-    CHECK(scenes == 40);
+    CHECK(scenes == 100);
 }
 
 TEST_CASE("CHC and CHC++ miss nothing with t_av, small batches and without tight bounds or multiqueries", "[chc]") {
@@ -399,6 +262,53 @@ TEST_CASE("CHC over moving objects: the refitted hierarchy keeps its ids and CHC
         }
     }
     CHECK(sum > 0);
+}
+
+TEST_CASE("CHC over churn: objects added, removed and teleported, the tree rebuilt when degraded", "[chc]") {
+    ChcScene s = boxCity(11, 8, 200);
+    FakeQueryDevice device(64, 48, 0.01, 2);
+    ObjectBvh bvh;
+    load(s, device, bvh);
+    ChcRenderer chc(device, bvh), chcpp(device, bvh);
+    std::mt19937_64 rng(11);
+    using reference::seeded::uniform;
+    ObjectId next = 100000;
+    int rebuilds = 0;
+    for (int f = 0; f < 40; ++f) {
+        for (int k = 0; k < 6; ++k) { // teleports anywhere in the city (not into the walk's street)
+            const std::size_t i = 64 + rng() % (s.ids.size() - 64);
+            Vec3 c{uniform(rng, -5, 80), uniform(rng, 0.3, 3), uniform(rng, -5, 80)};
+            if (c.z > 26 && c.z < 31) c.z += 6;
+            s.shapes[i] = Ball<3>{c, uniform(rng, 0.2, 0.8)};
+            device.setObject(s.ids[i], s.shapes[i]);
+            bvh.update(s.ids[i], boundsOf<3>(s.shapes[i]));
+        }
+        if (f % 3 == 0) { // one removed, two added
+            const std::size_t i = 64 + rng() % (s.ids.size() - 64);
+            bvh.remove(s.ids[i]);
+            device.removeObject(s.ids[i]);
+            s.ids.erase(s.ids.begin() + std::ptrdiff_t(i));
+            s.shapes.erase(s.shapes.begin() + std::ptrdiff_t(i));
+            for (int a = 0; a < 2; ++a) {
+                const Vec3 c{uniform(rng, 0, 40), uniform(rng, 0.3, 3), uniform(rng, 31, 40)};
+                s.ids.push_back(next++);
+                s.shapes.push_back(Box<3>{c, c + 0.7});
+                device.setObject(s.ids.back(), s.shapes.back());
+                bvh.insert(s.ids.back(), boundsOf<3>(s.shapes.back()));
+            }
+        }
+        rebuilds += bvh.rebuildIfDegraded() ? 1 : 0;
+        REQUIRE(checkBvh(bvh).empty());
+        const Camera3 cam = walkCamera(s.camera, s.step, f, 0.1);
+        const IdDepthImage full = device.referenceImage(cam, s.ids);
+        for (ChcRenderer* r : {&chc, &chcpp}) {
+            const ChcFrameStats& st = r->renderAll(cam, r == &chc ? CullMethod::Chc : CullMethod::ChcPlusPlus);
+            INFO("frame " << f << ", " << cullMethodName(st.method));
+            REQUIRE(device.image() == full);
+        }
+    }
+    CHECK(rebuilds >= 1);
+    CHECK(bvh.buildCount() == std::uint64_t(1 + rebuilds));
 }
 
 // --------------------------------------------------------------------------------------------------
