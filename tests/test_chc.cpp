@@ -226,6 +226,9 @@ TEST_CASE("CHC and CHC++ draw S&W's set in a static view after a few frames", "[
             }
             INFO("seed " << seed << ", latency " << latency);
             CHECK(chcSet == swSet);
+            // Pull-up: the root is visible, and every drawn object's leaf was classified visible.
+            CHECK(chc.nodeVisible(bvh.root()));
+            for (ObjectId id : chcSet) CHECK(chc.nodeVisible(bvh.leafOf(bvh.slotOf(id))));
             CHECK(chcppSet == swSet);
             CHECK(chcQueries < sw.lastStats().queries());
         }

@@ -31,6 +31,16 @@ TEST_CASE("ObjectBvh: a build bounds every object exactly, leaves hold at most m
             if (bvh.node(id).isLeaf()) CHECK(bvh.node(id).objects.size() <= 4u);
         for (const BvhItem& it : items) CHECK(bvh.contains(it.id));
     }
+    // From a scene's objects: boundsOf their shapes.
+    std::vector<ObjectDesc<3>> objects(2);
+    objects[0].id = 5;
+    objects[0].shape = Ball<3>{Vec3{1, 2, 3}, 0.5};
+    objects[1].id = 6;
+    objects[1].shape = Box<3>{Vec3{0, 0, 0}, Vec3{1, 1, 1}};
+    ObjectBvh fromObjects;
+    fromObjects.build(bvhItems(std::span<const ObjectDesc<3>>(objects)));
+    CHECK(fromObjects.objectBounds(fromObjects.slotOf(5)).min == Vec3{0.5, 1.5, 2.5});
+    CHECK(checkBvh(fromObjects).empty());
     ObjectBvh empty;
     empty.build({});
     CHECK(empty.root() == kNoBvhNode);

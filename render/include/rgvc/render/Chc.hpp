@@ -122,6 +122,12 @@ public:
     const ChcOptions& options() const { return m_options; }
     /// Forgets every node's visibility history (the next CHC frame starts as the first).
     void resetCoherence();
+    /// True when the last frame (CHC or CHC++) visited the node and classified it visible: the opened
+    /// nodes and the visible termination nodes (seed 001, Figure 3), for pictures and tests.
+    bool nodeVisible(BvhNodeId id) const {
+        return id < m_state.size() && m_state[id].lastVisited == m_frame && m_state[id].visible &&
+               m_state[id].stamp == m_bvh.node(id).stamp;
+    }
 
 private:
     struct NodeState {

@@ -38,6 +38,14 @@ struct BvhItem {
     Box<3> bounds;
 };
 
+/// The items of a scene's objects: their ids and outer bounds (boundsOf their shapes, world units).
+inline std::vector<BvhItem> bvhItems(std::span<const ObjectDesc<3>> objects) {
+    std::vector<BvhItem> items;
+    items.reserve(objects.size());
+    for (const ObjectDesc<3>& o : objects) items.push_back({o.id, boundsOf<3>(o.shape)});
+    return items;
+}
+
 struct BvhOptions {
     /// [Objects] a node with at most this many objects becomes a leaf when built or split. [Limit] 1..64.
     int maxLeafObjects = 4;
