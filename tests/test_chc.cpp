@@ -365,6 +365,15 @@ TEST_CASE("n_vp > 0 is flagged approximate; ZB and VFC never are", "[chc]") {
         CHECK(a.renderAll(s.camera, m).approximate);
         CHECK_FALSE(exact.renderAll(s.camera, m).approximate);
     }
+    // Approximate culls more: over a walk, n_vp = 5 draws no more than n_vp = 0.
+    ChcRenderer a2(device, bvh, approx), exact2(device, bvh);
+    std::uint64_t drawnApprox = 0, drawnExact = 0;
+    for (int f = 0; f < 20; ++f) {
+        const Camera3 cam = walkCamera(s.camera, s.step, f, 0.1);
+        drawnApprox += a2.renderAll(cam, CullMethod::Chc).objectsDrawn;
+        drawnExact += exact2.renderAll(cam, CullMethod::Chc).objectsDrawn;
+    }
+    CHECK(drawnApprox <= drawnExact);
     CHECK_FALSE(a.renderAll(s.camera, CullMethod::Zb).approximate);
     CHECK_FALSE(a.renderAll(s.camera, CullMethod::Vfc).approximate);
     CHECK(std::string(cullMethodName(CullMethod::ChcPlusPlus)) == "chcpp");
