@@ -503,8 +503,8 @@ double SceneRenderer::distanceToDrawn(ObjectId id, const Vec3& point) const {
 void SceneRenderer::drawBoxes(std::span<const Box<3>> boxes) {
     if (boxes.empty()) return;
     const GlFunctions& gl = m_gl;
-    std::vector<float> data;
-    data.reserve(boxes.size() * 6);
+    std::vector<float>& data = m_boxScratch; // kept: a query per node must not allocate per call
+    data.clear();
     for (const Box<3>& b : boxes) {
         for (int a = 0; a < 3; ++a) data.push_back(floatDown(b.min[a] - m_anchor[a]));
         for (int a = 0; a < 3; ++a) data.push_back(floatUp(b.max[a] - m_anchor[a]));

@@ -27,6 +27,8 @@
 // scene's size, not to its distance from the world origin. Box corners are rounded inwards to float
 // (the drawn box lies in the analytic one); query boxes (drawBoxes) outwards (they cover their box).
 //
+// Lifetime: a renderer holds GL objects of its context; destroy it before the context.
+//
 // The outer/inner model (seed 004 §5.1): a drawn sphere is the mesh scaled by the ball's radius, inside
 // the analytic ball; sphereInradius() * radius is the radius of a ball inside what is drawn.
 #pragma once
@@ -197,6 +199,7 @@ private:
 
     // Per-draw scratch: slots of the requested ids, by kind.
     std::vector<std::uint32_t> m_drawList[KindCount];
+    std::vector<float> m_boxScratch; // (min, max) per query box, anchor-relative
 
     // Camera.
     Camera3 m_camera;
