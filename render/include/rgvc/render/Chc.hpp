@@ -20,6 +20,11 @@
 // treats a node whose box comes within the near plane's reach (ChcOptions::nearDistance) as visible
 // without a query (CHC++'s "camera inside the node"). Per-node state never culls anything by itself:
 // stale state (a rebuilt or edited hierarchy, another method last frame) costs queries, not correctness.
+//
+// CHC++ queries a previously visible leaf after drawing it (its answer decides the next frame only), so
+// the query meets the leaf's own depth: a device whose query depth test lets ties pass (LEQUAL, or GEQUAL
+// with reversed depth) keeps such a leaf visible; one with a strict test may call it invisible, which
+// costs a query before drawing it next frame, not a miss.
 #pragma once
 
 #include "rgvc/render/ObjectBvh.hpp"
