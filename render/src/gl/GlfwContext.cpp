@@ -86,6 +86,10 @@ public:
     }
 
     void makeCurrent() override {
+        // Released first: GLX skips a make-current of the context it believes current, but an OSMesa
+        // context made current since then has replaced it in Mesa's libglapi, which both drivers use to
+        // find the current context. Released and made current again, GLX rebinds it there.
+        glfwMakeContextCurrent(nullptr);
         glfwMakeContextCurrent(m_window);
         if (glfwGetCurrentContext() != m_window) throw GlError("GLFW: glfwMakeContextCurrent failed: " + takeGlfwError());
     }

@@ -23,23 +23,40 @@ ItemBufferImage render(SceneRenderer& renderer, const Camera3& camera, int width
     target.clear();
     // The camera in or on drawn objects sees only those objects: every ray starts in their interior or
     // on their surface, and the near plane would cut a hole next to the camera through which the
-    // outside shows. "On" within a few float steps of the scene's extent, the precision of what is drawn.
-    const std::vector<ObjectId> all = subset ? std::vector<ObjectId>() : renderer.ids();
-    const std::span<const ObjectId> drawn = subset ? *subset : std::span<const ObjectId>(all);
-    const double scale = renderer.drawnExtent() + glm::length(camera.position);
+    // outside shows. "On" within 1e-6 of the scene's extent, the precision of what is drawn.
+    const std::vector<ObjectId> all = renderer.ids();
+    const double scale = renderer.drawnExtent() + glm::length(camera.position - renderer.anchor());
     const double onSurface = 1e-6 * scale;
-    std::vector<ObjectId> containers;
+    std::vector<bool> contains(all.size());
     double nearest = std::numeric_limits<double>::infinity();
-    for (ObjectId id : drawn) {
-        if (renderer.drawnShapeContains(id, camera.position, onSurface)) containers.push_back(id);
-        else nearest = std::min(nearest, renderer.distanceToDrawn(id, camera.position));
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        contains[i] = renderer.drawnShapeContains(all[i], camera.position, onSurface);
+        if (!contains[i]) nearest = std::min(nearest, renderer.distanceToDrawn(all[i], camera.position));
     }
-    // Otherwise the near plane stays nearer than every drawn surface (half the distance to the nearest),
-    // so that nothing in front of the camera is clipped open.
+    // Otherwise the near plane stays nearer than every surface (half the distance to the nearest, at most
+    // the renderer's near plane). Taken over all objects, not the subset, and objects drawn in item
+    // order either way: an image of a subset then has the depths and tie-breaks of the image of all,
+    // pixel for pixel, wherever it holds the object that the image of all shows.
     renderer.setCamera(camera, std::max(onSurface * 0.5, std::min(renderer.nearPlane(), 0.5 * nearest)));
-    if (!containers.empty()) renderer.draw(containers, DrawOutput::ItemId);
-    else if (subset) renderer.draw(*subset, DrawOutput::ItemId);
-    else renderer.drawAll(DrawOutput::ItemId);
+    std::vector<std::pair<std::uint32_t, ObjectId>> order; // (item, id) of what is drawn
+    if (subset) {
+        for (ObjectId id : *subset) {
+            const auto it = std::lower_bound(all.begin(), all.end(), id);
+            if (contains[std::size_t(it - all.begin())]) order.emplace_back(renderer.itemOf(id), id);
+        }
+        if (order.empty())
+            for (ObjectId id : *subset) order.emplace_back(renderer.itemOf(id), id);
+    } else {
+        for (std::size_t i = 0; i < all.size(); ++i)
+            if (contains[i]) order.emplace_back(renderer.itemOf(all[i]), all[i]);
+        if (order.empty())
+            for (ObjectId id : all) order.emplace_back(renderer.itemOf(id), id);
+    }
+    std::sort(order.begin(), order.end());
+    std::vector<ObjectId> drawn;
+    drawn.reserve(order.size());
+    for (const auto& [item, id] : order) drawn.push_back(id);
+    renderer.draw(drawn, DrawOutput::ItemId);
     renderer.setCamera(previous, previousNear);
 
     ItemBufferImage img;

@@ -9,8 +9,10 @@
 // its own framebuffer objects, so the default framebuffer is only for showing or saving a picture.
 //
 // Threads: a context is current on the thread that created it (each factory leaves it current), and
-// every call into render/gl for that context happens on that thread. Several contexts may exist; call
-// makeCurrent() before using another one's objects.
+// every call into render/gl for that context happens on that thread. Several contexts may exist, of
+// both kinds: call makeCurrent() before using another one's objects (also after making an OSMesa context
+// while a window's is current: both Mesa drivers record the current context in the shared libglapi, so
+// the window's must be made current again), and destroy objects while their context is current.
 #pragma once
 
 #include "rgvc/render/gl/GlError.hpp"

@@ -58,7 +58,10 @@ struct ItemBufferImage {
 /// [Pixels] [Limit] 1 <= width, height <= 16384. @throws GlError (framebuffer), InvalidInput (camera).
 ItemBufferImage itemBuffer(SceneRenderer& renderer, const Camera3& camera, int width, int height);
 
-/// The same for the objects `subset` only (the others are not drawn and hide nothing).
+/// The same for the objects `subset` only (the others are not drawn and hide nothing). Duplicates are
+/// drawn twice, harmlessly. Objects are drawn in item order, and the near plane is that
+/// of the image of all objects, so wherever this image and the image of all objects hold the same
+/// object's nearest surface they agree pixel for pixel (the CHC tests compare such images).
 /// @throws InvalidInput for an id the renderer does not hold.
 ItemBufferImage itemBuffer(SceneRenderer& renderer, const Camera3& camera, int width, int height,
                            std::span<const ObjectId> subset);

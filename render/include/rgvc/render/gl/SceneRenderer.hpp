@@ -135,6 +135,8 @@ public:
     /// [World units] the largest distance of any drawn vertex from the anchor, positions are sent
     /// relative to: the scale that float rounding of drawn positions is relative to (about 6e-8 of it).
     double drawnExtent() const { return m_extent; }
+    /// [World units] the point positions are sent relative to (the first object's centre).
+    const Vec3& anchor() const { return m_anchor; }
 
     /// [World units] the ObjectDesc::occluderInset that puts the culler's occluder model of `shape` inside
     /// what this renderer draws for it: radius * (1 - sphereInradius()) for a ball, plus a margin of 1e-6
