@@ -5,6 +5,9 @@
 // crashes or aborts on a missing driver or display; callers catch GlError and report it (the CLI exits 2
 // with the message on one line). Bad arguments that are not about GL (an unknown object id, an invalid
 // shape) stay rgvc::InvalidInput, as everywhere else in rgvc.
+//
+// A header of its own, without GL headers, so that code which only reports failures (the CLI) catches
+// it without seeing any GL type.
 #pragma once
 
 #include <stdexcept>

@@ -41,6 +41,8 @@ public:
     GlQueryDevice(SceneRenderer& renderer, int width, int height);
     ~GlQueryDevice() override;
 
+    /// Binds and clears the framebuffer, sets the renderer's camera.
+    /// @throws std::logic_error when queries of the previous frame were not fetched (QueryDevice's rule).
     void beginFrame(const Camera3& camera) override;
     void drawObjects(std::span<const ObjectId> ids) override;
     /// @throws InvalidInput for an empty box list or a box with min > max.
