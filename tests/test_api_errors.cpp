@@ -265,6 +265,12 @@ TEST_CASE("Culler options: TBV limits are checked with their field", "[errors][t
           "options.tbvMaxFrames");
     // Limits themselves are accepted.
     CHECK(withOptions([](CullerOptions& o) { o.tbvMaxFrames = 65536; o.tbvMaxGrowth = 1e-9; }) == "<accepted>");
+    // The image sizes: 0 rows of the traversal image is "from the view", negative or above 2048 is refused.
+    CHECK(withOptions([](CullerOptions& o) { o.traversalImageRows = -1; }) == "options.traversalImageRows");
+    CHECK(withOptions([](CullerOptions& o) { o.traversalImageRows = 2049; }) == "options.traversalImageRows");
+    CHECK(withOptions([](CullerOptions& o) { o.occlusionBufferRows = -1; }) == "options.occlusionBufferRows");
+    CHECK(withOptions([](CullerOptions& o) { o.traversalImageRows = 0; }) == "<accepted>");
+    CHECK(withOptions([](CullerOptions& o) { o.traversalImageRows = 2048; }) == "<accepted>");
 
     // An empty placement query is a bad argument, refused before the frame starts.
     Culler2D culler(g);

@@ -627,7 +627,7 @@ template <int D> struct Variant {
 };
 
 template <int D> std::vector<Variant<D>> variantsFor() {
-    if constexpr (D == 3) return {{"new", {}}, {"old", {.hierarchical = false}}, {"vfc", {.occlusion = false}}};
+    if constexpr (D == 3) return {{"new", {}}, {"img128", {.traversalImageRows = 128}}, {"old", {.hierarchical = false}}, {"vfc", {.occlusion = false}}};
     else return {{"default", {}}, {"vfc", {.occlusion = false}}};
 }
 

@@ -70,7 +70,7 @@ const char* const kCullUsage =
     "                   (default 256; 0 turns it off)\n"
     "  --shells         3D: the paper's per-voxel shell traversal with cap polygons instead of the\n"
     "                   brick tree with its occlusion image (the default; README \"How it works\")\n"
-    "  --image-rows R   3D brick tree: rows of its occlusion image, 1..2048 (default 128)\n"
+    "  --image-rows R   3D brick tree: rows of its occlusion image, 0..2048 (default 0: 32 to 128, from the fov)\n"
     "  --gl             3D: the GL occlusion-query stage after the CPU pipeline (headless, OSMesa): pvs is\n"
     "                   then the objects it draws (every object showing a pixel in an image of all objects\n"
     "                   at --gl-size); the CPU's PVS size goes to stats.cpu_pvs_size, the GL figures to\n"
@@ -176,7 +176,7 @@ CullArgs parseArgs(int argc, char** argv) {
                 a.gl.height = int(parseInteger("--gl-size height", v.substr(x + 1), 1, 16384));
             } else if (arg == "--image-rows") {
                 if (i + 1 >= argc) throw UsageError("--image-rows: missing value");
-                a.options.traversalImageRows = int(parseInteger("--image-rows", argv[++i], 1, OcclusionBuffer3D::kMaxExtent));
+                a.options.traversalImageRows = int(parseInteger("--image-rows", argv[++i], 0, OcclusionBuffer3D::kMaxExtent));
             } else {
                 throw UsageError("unknown option '" + arg + "' (try `rgvc cull --help`)");
             }

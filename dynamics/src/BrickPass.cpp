@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <variant>
 
 namespace rgvc {
@@ -61,7 +62,12 @@ template <int D> void Culler<D>::Impl::classify(ObjectSlot slot) { classify(slot
 /// node holding y is occupied, touches the view and is not hidden), and is not hidden in the image.
 /// Objects reaching outside the grid are classified too: the image's facts hold for any point.
 template <int D> void Culler<D>::Impl::traverseBricks(const ViewFrustum& view, CullStats& st) requires(D == 3) {
-    imageActive = options.occlusion && traversalImage.begin(view, options.traversalImageRows);
+    int rows = options.traversalImageRows;
+    if (rows == 0) {
+        const double want = std::ceil(2 * view.tanHalfHeight() / kAutoImagePixelTan);
+        rows = int(std::clamp(want, double(kAutoImageMinRows), double(kAutoImageMaxRows)));
+    }
+    imageActive = options.occlusion && traversalImage.begin(view, rows);
     st.tbvLookupsSkipped = tbvs.liveRegions() == 0;
     const BrickTraversalStats3D ts = brickTraversal.run(
         grid, storage, view, imageActive ? &traversalImage : nullptr, frame,

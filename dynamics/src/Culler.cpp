@@ -145,8 +145,8 @@ template <int D> Culler<D>::Culler(const GridGeometry<D>& grid, const CullerOpti
     if (options.occlusionBufferBins < 0 || options.occlusionBufferBins > OcclusionBuffer2D::kMaxBins)
         throw InvalidInput("options.occlusionBufferBins", "must be in [0, " + std::to_string(OcclusionBuffer2D::kMaxBins) +
                                                                "], got " + std::to_string(options.occlusionBufferBins));
-    if (options.traversalImageRows < 1 || options.traversalImageRows > OcclusionBuffer3D::kMaxExtent)
-        throw InvalidInput("options.traversalImageRows", "must be in [1, " + std::to_string(OcclusionBuffer3D::kMaxExtent) +
+    if (options.traversalImageRows < 0 || options.traversalImageRows > OcclusionBuffer3D::kMaxExtent)
+        throw InvalidInput("options.traversalImageRows", "must be in [0, " + std::to_string(OcclusionBuffer3D::kMaxExtent) +
                                                               "], got " + std::to_string(options.traversalImageRows));
     if (options.tbvDiscretization != TbvDiscretization::Boundary && options.tbvDiscretization != TbvDiscretization::Filled &&
         options.tbvDiscretization != TbvDiscretization::Shell)

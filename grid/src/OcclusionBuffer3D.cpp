@@ -240,6 +240,13 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
     Vec3 lo, hi; // the shape's bounding box grown, relative to the apex
     const double nearest = distance * (1 - kRelMargin);
     if (!(nearest > 0)) return false;
+    // The centre (of the ball, or of the box) is a point of the shape: when its own pixel is not covered
+    // nearer than it, neither test below can succeed (both need that pixel below `nearest`, which is at
+    // most the centre's distance). O(1) for the visible objects, which are most of what is tested.
+    {
+        const Vec3 c = std::visit([](const auto& s) { return 0.5 * (boundsOf<3>(s).min + boundsOf<3>(s).max); }, shape);
+        if (!canHide(c - m_apex)) return false;
+    }
     Footprint f;
     bool inView;
     if (const auto* b = std::get_if<Ball<3>>(&shape)) {

@@ -115,10 +115,11 @@ bool covered(const Poly& q, const ImageFootprint3D* const* polys, int n) {
 
 std::uint32_t OcclusionBuffer3D::addSeamBox(const Vec3& lo, const Vec3& hi) {
     if (m_seamBoxes.size() >= 0xFFFEu) return 0; // the per-pixel slots hold 16 bits
-    SeamBox b{lo, hi, 0.0, 0.0, {}};
+    SeamBox b{lo, hi, 0.0, 0.0, 0.0, {}};
     const Vec3 far{std::max(-lo.x, hi.x), std::max(-lo.y, hi.y), std::max(-lo.z, hi.z)};
     b.farthest = std::sqrt(lengthSquared<3>(far));
     const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), lo, hi)));
+    b.nearest = nearest;
     if (!(nearest > 0) || !footprintOf(lo, hi, zMinOf(nearest), b.poly, true) || b.poly.n < 3) return 0;
     for (int k = 0; k < b.poly.n; ++k) { // shoelace
         const int m = k + 1 == b.poly.n ? 0 : k + 1;
@@ -147,6 +148,17 @@ void OcclusionBuffer3D::notePartial(int i, int j, std::uint32_t box, unsigned co
     // two boxes share in part (the edges of a cloud of small boxes) stop at this test.
     double& depth = m_depth[p];
     double fused;
+    // A fused depth is at least each box's nearest distance (every ray enters each box no nearer): a
+    // pixel that nearer occluders already cover at that depth gains nothing (the inside of a cluster).
+    const double boxNearest = m_seamBoxes[box - 1].nearest;
+    if (depth <= std::max(boxNearest, m_seamBoxes[a - 1].nearest) &&
+        (b == 0 || depth <= std::max(boxNearest, m_seamBoxes[b - 1].nearest))) {
+        if (b == 0) {
+            slots |= box << 16;
+            held = std::uint8_t(ca | (corners << 4));
+        }
+        return;
+    }
     const std::uint32_t pairA[2] = {a, box};
     if ((ca | corners) == 0xFu && fusedDepth(i, j, pairA, 2, fused) && fused < depth) {
         depth = fused;

@@ -150,6 +150,10 @@ struct VoxelState {
     bool hasTbv = false;   ///< some TBV is discretized into this voxel (T)
 };
 
+/// CullerOptions::traversalImageRows = 0: the pixel size, and the row limits.
+inline constexpr double kAutoImagePixelTan = 0.04;
+inline constexpr int kAutoImageMinRows = 32, kAutoImageMaxRows = 128;
+
 struct CullerOptions {
     /// Use occlusion at all. false = view-frustum culling on the grid only (the VFC baseline).
     bool occlusion = true;
@@ -212,8 +216,12 @@ struct CullerOptions {
     /// turned), and only non-empty, not hidden bricks read their voxels. false: the paper's per-voxel
     /// shell traversal with cap polygons (FrustumTraversal3D.hpp), kept to compare.
     bool hierarchical = true;
-    /// 3D hierarchical only: [Pixels] [Limit] 1..2048. Rows of the traversal's occlusion image.
-    int traversalImageRows = 128;
+    /// 3D hierarchical only: [Pixels] [Limit] 0..2048. Rows of the traversal's occlusion image. 0 (the
+    /// default) follows the view: pixels of kAutoImagePixelTan in the image plane at distance 1, between
+    /// 32 and 128 rows (32 at a vertical fov of 60 degrees or less, 50 at 90, 87 at 120, 128 from 135 on).
+    /// Drawing into the image is most of the traversal's cost, and a narrow view needs fewer rows for the
+    /// same angular detail (README, "Output-sensitive core": the figures that chose the constants).
+    int traversalImageRows = 0;
 };
 
 template <int D> class Culler {

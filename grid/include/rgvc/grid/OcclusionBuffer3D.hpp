@@ -159,6 +159,7 @@ private:
     struct SeamBox {
         Vec3 lo, hi;      // apex-relative, as drawn
         double farthest;  // [voxel units] the farthest distance of the box: a bound on any entry distance
+        double nearest;   // [voxel units] its nearest distance: no entry distance is smaller
         double area;      // of its image polygon (which boxes a pixel keeps)
         Footprint poly;   // its image (exact hull of the clipped box, counter-clockwise, no padding)
     };
