@@ -125,7 +125,6 @@ int main(int argc, char** argv) {
             items.push_back({o.id, boundsOf<3>(o.shape)});
         }
         bvh.build(items);
-        const double inradius = SceneRendererOptions{}.sphere.inradius;
         const GridGeometry3 grid(scene.grid.origin(), scene.grid.voxelSize() * 100.0 / cfg.gridRes,
                                  IVec3{cfg.gridRes, cfg.gridRes * 6 / 10, cfg.gridRes});
 
@@ -142,7 +141,7 @@ int main(int argc, char** argv) {
             if (m.grid) {
                 m.culler = std::make_unique<Culler3D>(grid);
                 for (ObjectDesc<3> o : scene.objects) {
-                    o.occluderInset = std::get<Ball<3>>(o.shape).radius * (1 - inradius) * (1 + 1e-6);
+                    o.occluderInset = renderer.occluderInset(o.shape);
                     m.culler->addObject(o);
                 }
             }

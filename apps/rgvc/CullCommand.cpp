@@ -269,7 +269,7 @@ template <int D> int runFrames(const Scene& scene, const SceneData<D>& data, con
             if constexpr (D == 3)
                 if (gl) {
                     // The culler's occluder inside the drawn mesh (GlStage.hpp).
-                    if (const auto* b = std::get_if<Ball<3>>(&desc.shape)) desc.occluderInset = gl->ballInset(b->radius);
+                    desc.occluderInset = gl->occluderInset(desc.shape);
                     gl->setObject(desc.id, desc.shape);
                 }
             culler->addObject(desc);

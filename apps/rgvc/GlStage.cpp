@@ -60,9 +60,7 @@ GlStage::GlStage(const GlStageArgs& args) : m_impl(std::make_unique<Impl>()) {
 
 GlStage::~GlStage() = default;
 
-double GlStage::ballInset(double radius) const {
-    return radius * (1.0 - SceneRendererOptions{}.sphere.inradius) * (1 + 1e-6);
-}
+double GlStage::occluderInset(const Shape<3>& shape) const { return m_impl->renderer->occluderInset(shape); }
 
 void GlStage::setObject(ObjectId id, const Shape<3>& shape) {
     Impl& m = *m_impl;
@@ -127,7 +125,7 @@ struct GlStage::Impl {};
 bool GlStage::available() { return false; }
 GlStage::GlStage(const GlStageArgs&) { throw std::runtime_error("--gl: this rgvc was built without RGVC_WITH_GL"); }
 GlStage::~GlStage() = default;
-double GlStage::ballInset(double) const { return 0; }
+double GlStage::occluderInset(const Shape<3>&) const { return 0; }
 void GlStage::setObject(ObjectId, const Shape<3>&) {}
 const std::vector<ObjectId>& GlStage::frame(const Camera3&, std::span<const ObjectId>, nlohmann::ordered_json&) {
     static const std::vector<ObjectId> none;

@@ -41,8 +41,9 @@ public:
     GlStage(const GlStage&) = delete;
     GlStage& operator=(const GlStage&) = delete;
 
-    /// [World units] the occluder inset that puts a ball of `radius` inside its drawn mesh.
-    double ballInset(double radius) const;
+    /// [World units] the occluder inset that puts the shape's occluder inside what is drawn for it
+    /// (SceneRenderer::occluderInset: a ball's mesh inradius, with float rounding).
+    double occluderInset(const Shape<3>& shape) const;
     /// Adds or moves an object (before the first frame: all of them; then the moved ones).
     void setObject(ObjectId id, const Shape<3>& shape);
     /// Renders one frame over the CPU's PVS; returns the GL answer (sorted ids) and adds its figures
