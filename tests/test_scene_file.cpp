@@ -140,6 +140,24 @@ TEST_CASE("motion defaults: static, max_speed", "[scene]") {
     CHECK(o[5].id == 5); // an integral float is an integer
 }
 
+TEST_CASE("roles: both (default), occludee, occluder reach the culler's ObjectDesc", "[scene][roles]") {
+    json j = example2D();
+    j["objects"] = json::parse(R"([
+      { "id": 0, "shape": "circle", "center": [5, 5], "radius": 1 },
+      { "id": 1, "shape": "circle", "center": [9, 5], "radius": 1, "role": "both" },
+      { "id": 2, "shape": "box", "min": [1, 1], "max": [2, 2], "role": "occludee" },
+      { "id": 3, "shape": "box", "min": [3, 1], "max": [4, 2], "role": "occluder" }
+    ])");
+    const Scene scene = parse(j);
+    const auto& o = scene.as<2>()->objects;
+    CHECK(o[0].role == ObjectRole::Both);
+    CHECK(o[1].role == ObjectRole::Both);
+    CHECK(o[2].role == ObjectRole::Occludee);
+    CHECK(o[3].role == ObjectRole::Occluder);
+    CHECK(o[2].desc().role == ObjectRole::Occludee);
+    CHECK(o[3].desc().role == ObjectRole::Occluder);
+}
+
 TEST_CASE("camera options: 360 degrees, far, camera_path", "[scene]") {
     json j = example2D();
     j["camera"]["fov_deg"] = 360;
@@ -318,6 +336,9 @@ TEST_CASE("bad objects", "[scene]") {
     CHECK(obj(0, "max_speed", -1) == "objects[0].max_speed");
     CHECK(obj(0, "max_speed", 0.1) == "objects[0].max_speed"); // below |velocity| = 0.412
     CHECK(obj(0, "static", true) == "objects[0].static");       // moving but static
+    CHECK(obj(0, "role", "glass") == "objects[0].role");
+    CHECK(obj(0, "role", 1) == "objects[0].role");
+    CHECK(obj(0, "role", "Occludee") == "objects[0].role"); // the names are lower case
     CHECK(obj(0, "static", "yes") == "objects[0].static");
     CHECK(obj(0, "id", -1) == "objects[0].id");
     CHECK(obj(0, "id", 1.5) == "objects[0].id");

@@ -432,6 +432,15 @@ template <int D> std::vector<SceneObject<D>> readObjects(const Reader& r, const 
             obj.isStatic = r.boolean(*st, f + ".static");
             if (obj.isStatic && speed != 0) r.fail(f + ".static", "a static object must have zero velocity");
         }
+        if (const json* role = r.optional(o, "role")) {
+            const std::string name = role->is_string() ? role->get<std::string>() : std::string();
+            if (name == "both") obj.role = ObjectRole::Both;
+            else if (name == "occludee") obj.role = ObjectRole::Occludee;
+            else if (name == "occluder") obj.role = ObjectRole::Occluder;
+            else
+                r.fail(f + ".role", "must be \"both\", \"occludee\" or \"occluder\", got " +
+                                        (role->is_string() ? role->dump() : Reader::describe(*role)));
+        }
         objects.push_back(std::move(obj));
     }
     return objects;

@@ -54,9 +54,10 @@ template <int D> struct SceneObject {
     Vec<D> velocity{0.0};    ///< [World units per frame] initial velocity; finite.
     double maxSpeed = 0;     ///< [World units per frame] >= |velocity|.
     bool isStatic = true;    ///< Never moves; implies velocity == 0.
+    ObjectRole role = ObjectRole::Both; ///< `role`: "both" (default), "occludee", "occluder".
 
     /// The object as the culler wants it at frame 0.
-    ObjectDesc<D> desc() const { return {id, shape, isStatic, maxSpeed}; }
+    ObjectDesc<D> desc() const { return {id, shape, isStatic, maxSpeed, 0.0, role}; }
 };
 
 /// One entry of `camera_path`: the fields that change per frame.

@@ -42,7 +42,9 @@ template <int D> template <class View> void Culler<D>::Impl::refineWithBuffer(co
         if (removed != 0) {
             result.pvs.clear();
             for (ObjectSlot slot : pvsSlots)
-                if (pvsStamp[slot] == frame) result.pvs.push_back(records[slot].id);
+                if (pvsStamp[slot] == frame) {
+                    if (records[slot].role != ObjectRole::Occluder) result.pvs.push_back(records[slot].id);
+                }
                 else pvsStamp[slot] = frame; // back to "in this frame's grid PVS"
         }
         st.bufferTested = occlusionBuffer.stats().tested;

@@ -24,6 +24,15 @@ const char* toString(Fallback f) {
     return "unknown";
 }
 
+const char* toString(ObjectRole r) {
+    switch (r) {
+    case ObjectRole::Both: return "both";
+    case ObjectRole::Occludee: return "occludee";
+    case ObjectRole::Occluder: return "occluder";
+    }
+    return "unknown";
+}
+
 /// CullerOptions::adaptiveCaps: after a frame, how many of the next frames start without caps.
 template <int D> void Culler<D>::Impl::scheduleCaps(const CullStats& st) {
     if (st.capsDeferred) {
@@ -176,9 +185,11 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
         throw InvalidInput(field + ".max_speed", "must be finite and >= 0");
     if (!std::isfinite(object.occluderInset) || object.occluderInset < 0)
         throw InvalidInput(field + ".occluder_inset", "must be finite and >= 0");
+    if (object.role != ObjectRole::Both && object.role != ObjectRole::Occludee && object.role != ObjectRole::Occluder)
+        throw InvalidInput(field + ".role", "must be Both, Occludee or Occluder");
     Shape<D> shape = object.shape;
     validateShape<D>(shape, field);
-    typename Impl::Placement p = m.makePlacement(shape, object.occluderInset);
+    typename Impl::Placement p = m.makePlacement(shape, object.occluderInset, object.role);
 
     ObjectSlot slot;
     if (!m.freeSlots.empty()) {
@@ -198,6 +209,7 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
     r.id = object.id;
     r.maxSpeed = object.maxSpeed;
     r.inset = object.occluderInset;
+    r.role = object.role;
     r.alive = true;
     // A new object counts as a member of the last PVS: the next frame classifies it before it can be
     // hidden (the paper's first frame treats every object so).
@@ -218,7 +230,7 @@ template <int D> void Culler<D>::updateObject(ObjectId id, const Shape<D>& shape
     validateShape<D>(validated, [&] { return "object " + std::to_string(id); });
     const ObjectSlot slot = it->second;
     typename Impl::Record& r = m.records[slot];
-    typename Impl::Placement p = m.makePlacement(validated, r.inset);
+    typename Impl::Placement p = m.makePlacement(validated, r.inset, r.role);
     switch (r.state) {
     case Impl::State::Tracked:
     case Impl::State::Static: m.moveRasterized(slot, p); break;

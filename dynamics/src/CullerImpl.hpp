@@ -58,6 +58,7 @@ template <int D> struct Culler<D>::Impl {
         Placement at;
         double maxSpeed = 0;
         double inset = 0; // [World units] ObjectDesc::occluderInset
+        ObjectRole role = ObjectRole::Both;
         State state = State::Detached;
         bool alive = false;
         std::uint64_t lastPvsFrame = 0; // frameIndex of the last PVS holding it
@@ -135,7 +136,7 @@ template <int D> struct Culler<D>::Impl {
 
     // ---- placements, rasterization and object states (ObjectTable.cpp) ------------------------------
 
-    Placement makePlacement(const Shape<D>& world, double inset) const;
+    Placement makePlacement(const Shape<D>& world, double inset, ObjectRole role) const;
     void rasterize(ObjectSlot slot, int sign);
     void buildFootprint(const Placement& p, RowFootprint& f) const;
     void moveRasterized(ObjectSlot slot, const Placement& p);
@@ -185,7 +186,9 @@ template <int D> struct Culler<D>::Impl {
         if (pvsStamp[slot] == frame) return;
         pvsStamp[slot] = frame;
         records[slot].lastPvsFrame = frameIndex;
-        result.pvs.push_back(records[slot].id);
+        // An occluder-only object counts as in the PVS for the culler's own bookkeeping (it stays in O and
+        // I while in view) but is not reported.
+        if (records[slot].role != ObjectRole::Occluder) result.pvs.push_back(records[slot].id);
         pvsSlots.push_back(slot);
     }
     void scheduleCaps(const CullStats& st);

@@ -11,7 +11,7 @@
 
 namespace rgvc {
 
-template <int D> auto Culler<D>::Impl::makePlacement(const Shape<D>& world, double inset) const -> Placement {
+template <int D> auto Culler<D>::Impl::makePlacement(const Shape<D>& world, double inset, ObjectRole role) const -> Placement {
     Placement p;
     p.world = world;
     const Box<D> wb = boundsOf<D>(world);
@@ -19,7 +19,10 @@ template <int D> auto Culler<D>::Impl::makePlacement(const Shape<D>& world, doub
         p.worldMagnitude = std::max(p.worldMagnitude, std::max(std::abs(wb.min[a]), std::abs(wb.max[a])));
     p.local = toLocal<D>(world, grid);
     p.localBounds = boundsOf<D>(p.local);
-    if (inset > 0) {
+    if (role == ObjectRole::Occludee) {
+        p.inset = true; // no occluder model at all
+        p.occludes = false;
+    } else if (inset > 0) {
         p.inset = true;
         p.occludes = insetShape<D>(p.local, grid.toLocalLength(inset), p.inner);
     }
@@ -130,7 +133,7 @@ template <int D> auto Culler<D>::Impl::fetch(ObjectSlot slot, CullStats& st) -> 
     try {
         Shape<D> s = (*query)(r.id);
         validateShape<D>(s, [&] { return "object " + std::to_string(r.id) + ".shape"; });
-        fetched = makePlacement(s, r.inset);
+        fetched = makePlacement(s, r.inset, r.role);
     } catch (const InvalidInput& e) {
         if (invalidField.empty() && !queryException) {
             invalidField = e.field();
@@ -147,7 +150,7 @@ template <int D> auto Culler<D>::Impl::fetch(ObjectSlot slot, CullStats& st) -> 
     return &fetched;
 }
 
-template auto Culler<2>::Impl::makePlacement(const Shape<2>&, double) const -> Placement;
+template auto Culler<2>::Impl::makePlacement(const Shape<2>&, double, ObjectRole) const -> Placement;
 template void Culler<2>::Impl::rasterize(ObjectSlot, int);
 template void Culler<2>::Impl::buildFootprint(const Placement&, RowFootprint&) const;
 template void Culler<2>::Impl::moveRasterized(ObjectSlot, const Placement&);
@@ -159,7 +162,7 @@ template void Culler<2>::Impl::adopt(ObjectSlot, const Placement&);
 template void Culler<2>::Impl::attachTracked(ObjectSlot, const Placement&);
 template void Culler<2>::Impl::attachHidden(ObjectSlot, const Placement&, const TbvRegion<2>&, std::uint64_t);
 template auto Culler<2>::Impl::fetch(ObjectSlot, CullStats&) -> const Placement*;
-template auto Culler<3>::Impl::makePlacement(const Shape<3>&, double) const -> Placement;
+template auto Culler<3>::Impl::makePlacement(const Shape<3>&, double, ObjectRole) const -> Placement;
 template void Culler<3>::Impl::rasterize(ObjectSlot, int);
 template void Culler<3>::Impl::buildFootprint(const Placement&, RowFootprint&) const;
 template void Culler<3>::Impl::moveRasterized(ObjectSlot, const Placement&);

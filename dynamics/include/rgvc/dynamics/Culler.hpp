@@ -56,6 +56,15 @@ namespace rgvc {
 /// The user's object id: any non-negative integer, unique within a culler.
 using ObjectId = std::uint64_t;
 
+/// What an object does for visibility (scene-format.md's `role`).
+enum class ObjectRole : std::uint8_t {
+    Both,     ///< hides what lies behind it and is reported when visible (the default)
+    Occludee, ///< never hides anything (glass, foliage, particles): no O, never drawn into an image
+    Occluder, ///< hides what lies behind it and is never reported (level geometry drawn elsewhere)
+};
+/// "both", "occludee", "occluder".
+const char* toString(ObjectRole r);
+
 template <int D> struct ObjectDesc {
     ObjectId id = 0;
     Shape<D> shape;        ///< [World units] current placement.
@@ -71,6 +80,9 @@ template <int D> struct ObjectDesc {
     /// puts the occluder inside it (a sphere drawn as an inscribed mesh of inradius r_in: r - r_in). Then
     /// nothing the grid hides could have changed a pixel. 0: the shape itself occludes.
     double occluderInset = 0;
+    /// Occludee: as if the inset left nothing (it occludes nothing). Occluder: culled as usual (it is held
+    /// and tracked like any object, so it keeps occluding while in view) but left out of CullResult::pvs.
+    ObjectRole role = ObjectRole::Both;
 };
 
 /// The application's answer to "where is object `id` now?", in world units. Called by cull() only for
