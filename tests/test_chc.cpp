@@ -353,6 +353,31 @@ TEST_CASE("Candidates: only they are drawn, and every one of them that shows is 
     }
 }
 
+TEST_CASE("queryMinCandidates: a small candidate set is drawn with VFC, no queries, the same image", "[chc]") {
+    const ChcScene s = randomChcScene(77);
+    FakeQueryDevice device(64, 48, 0.01, 1);
+    ObjectBvh bvh;
+    load(s, device, bvh);
+    const std::vector<ObjectId> few(s.ids.begin(), s.ids.begin() + std::min<std::size_t>(s.ids.size(), 5));
+    REQUIRE(few.size() == 5);
+    for (CullMethod m : kQueryMethods) {
+        INFO(cullMethodName(m));
+        ChcRenderer skipping(device, bvh, ChcOptions{.queryMinCandidates = 5});
+        ChcRenderer querying(device, bvh, ChcOptions{.queryMinCandidates = 4});
+        const Camera3 cam = walkCamera(s.camera, s.step, 0);
+        const IdDepthImage ref = device.referenceImage(cam, few);
+        const ChcFrameStats& a = skipping.render(cam, m, few);
+        CHECK(a.queriesSkipped);
+        CHECK(a.queries() == 0);
+        CHECK(device.image() == ref);
+        const ChcFrameStats& b = querying.render(cam, m, few);
+        CHECK_FALSE(b.queriesSkipped);
+        CHECK(device.image() == ref);
+        // Every object is a candidate with renderAll: never skipped.
+        CHECK_FALSE(skipping.renderAll(cam, m).queriesSkipped);
+    }
+}
+
 TEST_CASE("n_vp > 0 is flagged approximate; ZB and VFC never are", "[chc]") {
     const ChcScene s = boxCity(4, 6, 100);
     FakeQueryDevice device;

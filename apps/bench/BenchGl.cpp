@@ -137,7 +137,7 @@ int main(int argc, char** argv) {
         methods.push_back({"sw", CullMethod::StopAndWait, false, false, {}, {}, {}, {}, {}, {}, {}, 0});
         methods.push_back({"ideal", CullMethod::Ideal, false, true, {}, {}, {}, {}, {}, {}, {}, 0});
         for (Method& m : methods) {
-            m.chc = std::make_unique<ChcRenderer>(device, bvh);
+            m.chc = std::make_unique<ChcRenderer>(device, bvh, ChcOptions{.queryMinCandidates = 32});
             if (m.grid) {
                 m.culler = std::make_unique<Culler3D>(grid);
                 for (ObjectDesc<3> o : scene.objects) {

@@ -86,7 +86,8 @@ const std::vector<ObjectId>& GlStage::frame(const Camera3& camera, std::span<con
     if (!m.chc) {
         m.bvh.build(m.pending);
         m.pending.clear();
-        m.chc = std::make_unique<ChcRenderer>(*m.device, m.bvh);
+        // A PVS of 32 objects or fewer is drawn without queries (ChcOptions::queryMinCandidates).
+        m.chc = std::make_unique<ChcRenderer>(*m.device, m.bvh, ChcOptions{.queryMinCandidates = 32});
     } else {
         m.bvh.rebuildIfDegraded();
     }
@@ -114,6 +115,7 @@ const std::vector<ObjectId>& GlStage::frame(const Camera3& camera, std::span<con
     stats["gl_objects_drawn"] = s.objectsDrawn;
     stats["gl_draw_calls"] = s.drawCalls;
     stats["gl_approximate"] = s.approximate;
+    stats["gl_queries_skipped"] = s.queriesSkipped;
     stats["gl_context"] = m.context->description();
     return m.pvs;
 }

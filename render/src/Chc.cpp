@@ -92,6 +92,12 @@ const ChcFrameStats& ChcRenderer::renderFrame(const Camera3& camera, CullMethod 
     beginStats(method);
     const auto t0 = std::chrono::steady_clock::now();
     m_device.beginFrame(camera);
+    const bool queries = method == CullMethod::StopAndWait || method == CullMethod::Chc || method == CullMethod::ChcPlusPlus;
+    if (queries && candidates != nullptr && m_candidateSlots.size() <= m_options.queryMinCandidates) {
+        m_stats.queriesSkipped = true;
+        m_stats.approximate = false;
+        method = CullMethod::Vfc;
+    }
     switch (method) {
     case CullMethod::Zb:
     case CullMethod::Ideal: renderZb(); break;

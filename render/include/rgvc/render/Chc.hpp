@@ -81,6 +81,11 @@ struct ChcOptions {
     int tightBoundsMaxBoxes = 16;  ///< [Boxes] per node. [Limit] >= 1.
     /// Seeds the randomized first t_av (deterministic for a given seed).
     std::uint64_t seed = 1;
+    /// [Objects] "skip what a frame doesn't need" (DESIGN.md): a query method given at most this many
+    /// candidates draws them all with VFC instead, without queries (ChcFrameStats::queriesSkipped): a
+    /// query costs about what drawing a small object does, so a small PVS gains nothing from them.
+    /// 0: never skipped. Conservative either way (it only draws more).
+    std::uint32_t queryMinCandidates = 0;
 };
 
 /// What one frame did. Counts are per frame.
@@ -103,6 +108,8 @@ struct ChcFrameStats {
     std::uint32_t objectsDrawn = 0;
     /// n_vp > 0 with a method that queries: visible objects may have been culled.
     bool approximate = false;
+    /// The method queries, but the candidates were at most ChcOptions::queryMinCandidates: VFC ran instead.
+    bool queriesSkipped = false;
     /// The objects drawn, in drawing order, each once: the GL stage's visible set.
     std::vector<ObjectId> drawn;
 
