@@ -155,6 +155,36 @@ TEST_CASE("culler3d: occluderInset: O and the images use the shape shrunk by the
         }
 }
 
+TEST_CASE("culler3d: adaptiveBuffer skips the buffer's pass 1, 2, 4, 8 frames while it does not pay", "[culler3d]") {
+    // Five spheres side by side, all visible: the buffer hides none of them, so after each pass the
+    // next 1, 2, 4, then 8 frames skip it, and a skipped frame reports the grid's PVS (the same here).
+    GridGeometry3 grid({0, 0, 0}, 1.0, {32, 32, 32});
+    const Camera3 cam = makeCamera({2.5, 16.5, 16.5}, {1, 0, 0}, 90);
+    std::vector<Shape<3>> open;
+    for (int k = 0; k < 5; ++k) open.push_back(Ball<3>{{20, 6.0 + 5 * k, 16}, 1.5});
+    Culler3D culler = makeCuller<3>(grid, staticObjects<3>(open), CullerOptions{.adaptiveBuffer = true});
+    std::string pattern;
+    for (int f = 0; f < 24; ++f) {
+        const CullResult& r = culler.cull(cam);
+        pattern += r.stats.bufferSkipped ? '-' : 'B';
+        CHECK(r.pvs.size() == 5);
+    }
+    CHECK(pattern == "B-B--B----B--------B----");
+    // A cloud of small spheres in front of one behind: the buffer hides the one behind (and pays), so it
+    // runs every frame.
+    std::vector<Shape<3>> cloud;
+    for (int y = 0; y < 12; ++y)
+        for (int z = 0; z < 12; ++z) cloud.push_back(Ball<3>{{10, 10.5 + y, 10.5 + z}, 0.75});
+    for (int k = 0; k < 3; ++k) cloud.push_back(Ball<3>{{22, 15.5 + k, 15.5}, 0.4});
+    Culler3D busy = makeCuller<3>(grid, staticObjects<3>(cloud), CullerOptions{.adaptiveBuffer = true});
+    const Camera3 view = makeCamera({2.5, 16, 16}, {1, 0, 0}, 30);
+    for (int f = 0; f < 10; ++f) {
+        const CullResult& r = busy.cull(view);
+        INFO("frame " << f << ": tested " << r.stats.bufferTested << ", hidden " << r.stats.bufferHidden);
+        CHECK_FALSE(r.stats.bufferSkipped);
+    }
+}
+
 TEST_CASE("culler3d: a wall across the whole view hides everything behind it at turned views", "[culler3d]") {
     // The leak of README's "known weakness": a wall of static boxes covering the grid's whole cross-section,
     // the camera in front of it turned away from +z. Behind the wall the caps are made of occluded voxels;

@@ -26,6 +26,7 @@
 // inside an object (from inside one the reference sees that object only).
 //
 //   rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] [--no-reference] [--quick]
+//                      [--variant NAME]   (only that variant: new, img128, old, vfc, default; for profiling)
 //
 // --quick: 3 measured frames after 1 warm-up, every frame checked, small object counts, room-1k only
 // among the rooms and a 256^3 empty grid (a smoke test: a few seconds). Output: a header (machine,
@@ -519,6 +520,7 @@ struct Config {
     int frames = 60, warmup = 5, refEvery = 0; // refEvery 0: chosen from the first check's cost
     bool noReference = false;                  // --no-reference: timing only (profiling), no accuracy columns
     bool quick = false;
+    std::string variant; // --variant NAME: only this one (profiling); empty: all
 };
 
 struct Row {
@@ -627,12 +629,16 @@ template <int D> struct Variant {
 };
 
 template <int D> std::vector<Variant<D>> variantsFor() {
-    if constexpr (D == 3) return {{"new", {}}, {"img128", {.traversalImageRows = 128}}, {"old", {.hierarchical = false}}, {"vfc", {.occlusion = false}}};
+    if constexpr (D == 3) return {{"new", {}}, {"adaptbuf", {.adaptiveBuffer = true}}, {"img128", {.traversalImageRows = 128}}, {"old", {.hierarchical = false}}, {"vfc", {.occlusion = false}}};
     else return {{"default", {}}, {"vfc", {.occlusion = false}}};
 }
 
 template <int D> void runScene(World<D>& w, const Config& cfg) {
-    const std::vector<Variant<D>> variants = variantsFor<D>();
+    std::vector<Variant<D>> variants = variantsFor<D>();
+    if (!cfg.variant.empty()) {
+        std::erase_if(variants, [&](const Variant<D>& v) { return cfg.variant != v.name; });
+        if (variants.empty()) return; // not a variant of this dimension
+    }
     const std::size_t nv = variants.size();
     const int frames = w.maxFrames > 0 ? std::min(cfg.frames, w.maxFrames) : cfg.frames;
     std::printf("- %s: %dD grid %s, %zu objects: %s; %d frames after %d warm-up\n", w.name.c_str(), D,
@@ -795,9 +801,10 @@ int main(int argc, char** argv) {
         else if (a == "--ref-every") cfg.refEvery = parseInt(a, value(), 1);
         else if (a == "--no-reference") cfg.noReference = true;
         else if (a == "--quick") cfg.quick = true;
+        else if (a == "--variant") cfg.variant = value();
         else if (a == "--help" || a == "-h") {
             std::printf("usage: rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] "
-                        "[--no-reference] [--quick]\nscenes:");
+                        "[--no-reference] [--quick] [--variant NAME]\nscenes:");
             for (const char* s : kScenes)
                 std::printf(" %s", s);
             std::printf("\n");

@@ -48,7 +48,7 @@ using Clock = std::chrono::steady_clock;
 const char* const kCullUsage =
     "usage: rgvc cull SCENE.json [--frames N] [--dump-objects] [--no-occlusion] [--no-extension]\n"
     "                 [--no-tbv] [--filled-tbv] [--caps-every-frame] [--buffer-rows R] [--buffer-bins B]\n"
-    "                 [--shells] [--image-rows R] [--gl] [--gl-method M] [--gl-size WxH]\n"
+    "                 [--shells] [--image-rows R] [--adaptive-buffer] [--gl] [--gl-method M] [--gl-size WxH]\n"
     "\n"
     "Runs N frames of a scene file (the format is described in the project README) and prints one\n"
     "JSON object per frame on stdout:\n"
@@ -71,6 +71,8 @@ const char* const kCullUsage =
     "  --shells         3D: the paper's per-voxel shell traversal with cap polygons instead of the\n"
     "                   brick tree with its occlusion image (the default; README \"How it works\")\n"
     "  --image-rows R   3D brick tree: rows of its occlusion image, 0..2048 (default 0: 32 to 128, from the fov)\n"
+    "  --adaptive-buffer  skip the occlusion buffer's pass for 1-8 frames after it hid under a tenth of\n"
+    "                   what it tested (stats.buffer_skipped)\n"
     "  --gl             3D: the GL occlusion-query stage after the CPU pipeline (headless, OSMesa): pvs is\n"
     "                   then the objects it draws (every object showing a pixel in an image of all objects\n"
     "                   at --gl-size); the CPU's PVS size goes to stats.cpu_pvs_size, the GL figures to\n"
@@ -157,6 +159,8 @@ CullArgs parseArgs(int argc, char** argv) {
                 a.options.occlusionBufferBins = int(parseInteger("--buffer-bins", argv[++i], 0, OcclusionBuffer2D::kMaxBins));
             } else if (arg == "--shells") {
                 a.options.hierarchical = false;
+            } else if (arg == "--adaptive-buffer") {
+                a.options.adaptiveBuffer = true;
             } else if (arg == "--gl") {
                 a.gl.enabled = true;
             } else if (arg == "--gl-method") {
@@ -217,6 +221,7 @@ ojson statsJson(const CullStats& s) {
     j["buffer_tested"] = s.bufferTested;
     j["buffer_hidden"] = s.bufferHidden;
     j["buffer_ms"] = s.bufferMs;
+    j["buffer_skipped"] = s.bufferSkipped;
     j["nodes_visited"] = s.nodesVisited;
     j["nodes_empty"] = s.nodesEmpty;
     j["nodes_hidden"] = s.nodesHidden;

@@ -133,7 +133,23 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
     st.parkedObjects = std::uint32_t(parked.size());
     st.gridWrites = writes;
     st.tbvMatrixAllocated = tbvs.allocated();
-    if (options.occlusion && Traits::bufferSize(options) > 0 && pvsSlots.size() > 1) refineWithBuffer(view, st);
+    if (options.occlusion && Traits::bufferSize(options) > 0 && pvsSlots.size() > 1) {
+        // CullerOptions::adaptiveBuffer: a pass that hid under a tenth of what it tested skips the next
+        // 1, 2, 4, then at most 8 frames; a pass that pays resets the schedule. Skipping only leaves the
+        // grid's PVS as it is (a superset).
+        if (options.adaptiveBuffer && bufferSkip > 0) {
+            --bufferSkip;
+            st.bufferSkipped = true;
+        } else {
+            refineWithBuffer(view, st);
+            if (options.adaptiveBuffer && st.bufferTested > 0 && st.bufferHidden * 10 < st.bufferTested) {
+                bufferSkip = bufferBackoff;
+                bufferBackoff = std::min<std::uint32_t>(2 * bufferBackoff, 8);
+            } else {
+                bufferBackoff = 1;
+            }
+        }
+    }
     std::sort(result.pvs.begin(), result.pvs.end());
     st.pvsSize = std::uint32_t(result.pvs.size());
     st.cullMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

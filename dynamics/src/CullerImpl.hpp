@@ -107,6 +107,8 @@ template <int D> struct Culler<D>::Impl {
     const typename Traits::View* currentView = nullptr; // the frame's view, while cull() runs
     // CullerOptions::adaptiveCaps (3D): frames still to start without caps, and the next skip's length.
     std::uint32_t capsSkip = 0, capsBackoff = 1;
+    // CullerOptions::adaptiveBuffer: frames still to skip the occlusion buffer's pass, and the next skip.
+    std::uint32_t bufferSkip = 0, bufferBackoff = 1;
     // The grid PVS's slots in the order added, and the occlusion buffer that refines it (3D).
     std::vector<ObjectSlot> pvsSlots;
     struct BufferShape {
