@@ -25,6 +25,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -276,6 +277,67 @@ TEST_CASE("Culler options: TBV limits are checked with their field", "[errors][t
     Culler2D culler(g);
     culler.addObject({1, Ball<2>{{8, 8}, 1}, false, 0.5});
     CHECK(fieldOf([&] { culler.cull(makeCamera({1.5, 1.5}, {1, 1}, 90, INFINITY), PlacementQuery<2>{}); }) == "placementOf");
+}
+
+TEST_CASE("Culler misuse: a moved-from culler and calls from inside the placement query are logic errors", "[errors]") {
+    const GridGeometry3 g({0, 0, 0}, 1, {16, 16, 16});
+    const Camera3 cam = makeCamera({1.5, 8.5, 8.5}, {1, 0, 0}, 60);
+    // Moved from: every member says so, none crashes.
+    Culler3D a(g);
+    a.addObject({1, Ball<3>{{8, 8, 8}, 1}, false, 0.5});
+    Culler3D b(std::move(a));
+    auto movedFrom = [](auto&& call) {
+        try {
+            call();
+        } catch (const std::logic_error& e) {
+            return std::string(e.what()).find("moved from") != std::string::npos;
+        }
+        return false;
+    };
+    CHECK(movedFrom([&] { a.cull(cam); }));
+    CHECK(movedFrom([&] { a.addObject({2, Ball<3>{{4, 4, 4}, 1}}); }));
+    CHECK(movedFrom([&] { a.updateObject(1, Ball<3>{{4, 4, 4}, 1}); }));
+    CHECK(movedFrom([&] { a.removeObject(1); }));
+    CHECK(movedFrom([&] { (void)a.hasObject(1); }));
+    CHECK(movedFrom([&] { (void)a.objectCount(); }));
+    CHECK(movedFrom([&] { (void)a.lastResult(); }));
+    CHECK(movedFrom([&] { (void)a.voxelState({1, 1, 1}); }));
+    CHECK(movedFrom([&] { (void)a.grid(); }));
+    CHECK(b.hasObject(1));
+    a = Culler3D(g); // assigning a new culler makes the variable usable again
+    CHECK(a.objectCount() == 0);
+
+    // From inside the placement query: removing the object being asked for (it used to leave a ghost in
+    // the PVS for good) is refused; the frame completes, cull() rethrows, and the object is untouched.
+    for (int what = 0; what < 4; ++what) {
+        INFO("call " << what);
+        Culler3D c(g);
+        c.addObject({7, Ball<3>{{8, 8, 8}, 1}, false, 0.5});
+        bool sawConst = false;
+        const PlacementQuery<3> query = [&](ObjectId id) -> Shape<3> {
+            sawConst = c.hasObject(id) && c.objectCount() == 1 && c.grid().resolution().x == 16; // allowed
+            if (what == 0) c.removeObject(id);
+            if (what == 1) c.updateObject(id, Ball<3>{{9, 8, 8}, 1});
+            if (what == 2) c.addObject({8, Ball<3>{{4, 4, 4}, 1}});
+            if (what == 3) c.cull(cam);
+            return Ball<3>{{8, 8, 8}, 1};
+        };
+        c.cull(cam); // frame 1: object 7 is in the PVS, so frame 2 asks for it
+        try {
+            c.cull(cam, query);
+            FAIL("no error");
+        } catch (const std::logic_error& e) {
+            CHECK(std::string(e.what()).find("placement query") != std::string::npos);
+        }
+        CHECK(sawConst);
+        CHECK(c.hasObject(7));
+        CHECK_FALSE(c.hasObject(8));
+        CHECK(c.lastResult().pvs == std::vector<ObjectId>{7}); // reported conservatively (parked)
+        c.cull(cam, [](ObjectId) -> Shape<3> { return Ball<3>{{8, 8, 8}, 1}; });
+        CHECK(c.lastResult().pvs == std::vector<ObjectId>{7});
+        c.removeObject(7); // outside the query: fine
+        CHECK(c.cull(cam).pvs.empty());
+    }
 }
 
 TEST_CASE("validateShape and validateCamera name the field under the caller's prefix", "[errors]") {

@@ -7,6 +7,8 @@
 
 #include "CullerImpl.hpp"
 
+#include <stdexcept>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -183,18 +185,30 @@ template <int D> Culler<D>::Culler(const GridGeometry<D>& grid, const CullerOpti
                                                   " voxels need more memory than is available");
     }
 }
+/// The Impl behind a public call, with the two ways to misuse the API made errors: a moved-from culler
+/// (no Impl), and a call from inside the placement query, which runs in the middle of cull() (objects
+/// being classified, the PVS half built; a removeObject there left a ghost id in the PVS for good).
+template <int D> typename Culler<D>::Impl& Culler<D>::checked(const char* what, bool allowedInQuery) const {
+    if (!m_impl) throw std::logic_error(std::string("rgvc::Culler::") + what + ": the culler was moved from");
+    if (m_impl->inQuery && !allowedInQuery)
+        throw std::logic_error(std::string("rgvc::Culler::") + what +
+                               ": called from inside the placement query (it may call only hasObject, objectCount, "
+                               "grid and options)");
+    return *m_impl;
+}
+
 template <int D> Culler<D>::~Culler() = default;
 template <int D> Culler<D>::Culler(Culler&&) noexcept = default;
 template <int D> Culler<D>& Culler<D>::operator=(Culler&&) noexcept = default;
 
-template <int D> const GridGeometry<D>& Culler<D>::grid() const { return m_impl->grid; }
-template <int D> const CullerOptions& Culler<D>::options() const { return m_impl->options; }
-template <int D> bool Culler<D>::hasObject(ObjectId id) const { return m_impl->slotOf.count(id) != 0; }
-template <int D> std::size_t Culler<D>::objectCount() const { return m_impl->slotOf.size(); }
-template <int D> const CullResult& Culler<D>::lastResult() const { return m_impl->result; }
+template <int D> const GridGeometry<D>& Culler<D>::grid() const { return checked("grid", true).grid; }
+template <int D> const CullerOptions& Culler<D>::options() const { return checked("options", true).options; }
+template <int D> bool Culler<D>::hasObject(ObjectId id) const { return checked("hasObject", true).slotOf.count(id) != 0; }
+template <int D> std::size_t Culler<D>::objectCount() const { return checked("objectCount", true).slotOf.size(); }
+template <int D> const CullResult& Culler<D>::lastResult() const { return checked("lastResult").result; }
 
 template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
-    Impl& m = *m_impl;
+    Impl& m = checked("addObject");
     const std::string field = "object " + std::to_string(object.id);
     if (m.slotOf.count(object.id)) throw InvalidInput(field + ".id", "duplicate id");
     if (!std::isfinite(object.maxSpeed) || object.maxSpeed < 0)
@@ -239,7 +253,7 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
 }
 
 template <int D> void Culler<D>::updateObject(ObjectId id, const Shape<D>& shape) {
-    Impl& m = *m_impl;
+    Impl& m = checked("updateObject");
     auto it = m.slotOf.find(id);
     if (it == m.slotOf.end()) throw InvalidInput("object " + std::to_string(id) + ".id", "unknown id");
     Shape<D> validated = shape;
@@ -264,7 +278,7 @@ template <int D> void Culler<D>::updateObject(ObjectId id, const Shape<D>& shape
 }
 
 template <int D> void Culler<D>::removeObject(ObjectId id) {
-    Impl& m = *m_impl;
+    Impl& m = checked("removeObject");
     auto it = m.slotOf.find(id);
     if (it == m.slotOf.end()) throw InvalidInput("object " + std::to_string(id) + ".id", "unknown id");
     const ObjectSlot slot = it->second;
@@ -274,15 +288,16 @@ template <int D> void Culler<D>::removeObject(ObjectId id) {
     m.slotOf.erase(it);
 }
 
-template <int D> const CullResult& Culler<D>::cull(const Camera<D>& camera) { return m_impl->cull(camera, nullptr); }
+template <int D> const CullResult& Culler<D>::cull(const Camera<D>& camera) { return checked("cull").cull(camera, nullptr); }
 
 template <int D> const CullResult& Culler<D>::cull(const Camera<D>& camera, const PlacementQuery<D>& placementOf) {
+    Impl& m = checked("cull");
     if (!placementOf) throw InvalidInput("placementOf", "must be callable");
-    return m_impl->cull(camera, &placementOf);
+    return m.cull(camera, &placementOf);
 }
 
 template <int D> VoxelState Culler<D>::voxelState(const IVec<D>& v) const {
-    const Impl& m = *m_impl;
+    const Impl& m = checked("voxelState");
     VoxelState s;
     if (!m.grid.contains(v)) return s;
     const VoxelKey key = m.grid.linearIndex(v);

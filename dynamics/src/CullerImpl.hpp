@@ -99,6 +99,7 @@ template <int D> struct Culler<D>::Impl {
 
     // The current frame's placement source (null: the stored placements) and its first failure.
     const PlacementQuery<D>* query = nullptr;
+    bool inQuery = false; // the placement query is running (Culler's members refuse to be called)
     std::exception_ptr queryException;
     std::string invalidField, invalidWhat;
     std::uint64_t writes = 0;

@@ -131,6 +131,12 @@ template <int D> auto Culler<D>::Impl::fetch(ObjectSlot slot, CullStats& st) -> 
     if (r.failedFrame == frameIndex) return nullptr; // asked once this frame already
     ++st.placementQueries;
     try {
+        // While the application's code runs, Culler's members refuse to be called (checkedImpl).
+        struct QueryScope {
+            bool& flag;
+            explicit QueryScope(bool& f) : flag(f) { flag = true; }
+            ~QueryScope() { flag = false; }
+        } scope(inQuery);
         Shape<D> s = (*query)(r.id);
         validateShape<D>(s, [&] { return "object " + std::to_string(r.id) + ".shape"; });
         fetched = makePlacement(s, r.inset, r.role);

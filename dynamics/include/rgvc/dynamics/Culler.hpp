@@ -37,7 +37,19 @@
 // Objects and cameras outside the grid are legal; they take a conservative fallback reported in stats.
 //
 // Errors: every member validates its arguments and throws rgvc::InvalidInput ("field: what") before
-// changing anything (see rgvc/grid/Error.hpp). Not thread-safe: one culler per thread.
+// changing anything (see rgvc/grid/Error.hpp). Misuse throws std::logic_error instead of corrupting
+// anything: a member called on a moved-from culler (assign a new culler to reuse the variable), and a
+// member other than hasObject, objectCount, grid and options called from inside the placement query
+// (which runs in the middle of cull(): objects half classified, the PVS half built); the query's call
+// then fails, and cull() completes the frame conservatively and rethrows that logic_error.
+//
+// Lifetimes: the CullResult& that cull() and lastResult() return stays valid, and unchanged, until the
+// next cull(), or until the culler is destroyed or moved. updateObject on a hidden object while cull()
+// is given a placement query is a teleport: the pushed placement replaces the object's current one at
+// once (one pushed outside its TBV goes back into O and I and is classified by the next frame).
+//
+// Threads: not thread-safe; one culler per thread, and the placement query is called on the thread that
+// called cull(). Different cullers share nothing.
 #pragma once
 
 #include "rgvc/grid/Camera.hpp"
@@ -285,6 +297,9 @@ public:
 
 private:
     struct Impl;
+    /// The state, or std::logic_error for a moved-from culler or a call from inside the placement query
+    /// (unless `allowedInQuery`).
+    Impl& checked(const char* what, bool allowedInQuery = false) const;
     std::unique_ptr<Impl> m_impl;
 };
 
