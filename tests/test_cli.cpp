@@ -450,6 +450,10 @@ TEST_CASE("cull --gl: the GL stage's pvs holds every object the item buffer of a
             CHECK(st["gl_method"] == method);
             CHECK(st["gl_size"] == "96x64");
             CHECK(st["gl_approximate"] == false);
+            for (const char* key : {"gl_ms", "gl_submit_ms", "gl_finish_ms", "gl_wait_ms", "gl_queries", "gl_results_waited",
+                                    "gl_nodes_traversed", "gl_objects_drawn", "gl_triangles_drawn", "gl_queries_skipped"})
+                CHECK(st.contains(key));
+            CHECK(st["gl_triangles_drawn"].get<std::uint64_t>() >= 1280 * st["gl_objects_drawn"].get<std::uint64_t>() / 2);
             CHECK(st["pvs_size"].get<std::size_t>() <= st["cpu_pvs_size"].get<std::size_t>());
             shrunk += st["cpu_pvs_size"].get<std::size_t>() - st["pvs_size"].get<std::size_t>();
             REQUIRE_FALSE(img.visible.empty());

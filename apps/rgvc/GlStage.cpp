@@ -92,6 +92,7 @@ const std::vector<ObjectId>& GlStage::frame(const Camera3& camera, std::span<con
         m.bvh.rebuildIfDegraded();
     }
     const GlQueryStats before = m.device->stats();
+    const std::uint64_t trianglesBefore = m.renderer->stats().trianglesDrawn;
     const auto t0 = std::chrono::steady_clock::now();
     const ChcFrameStats& s = m.chc->render(camera, methodOf(m.args.method), cpuPvs);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -114,6 +115,8 @@ const std::vector<ObjectId>& GlStage::frame(const Camera3& camera, std::span<con
     stats["gl_nodes_traversed"] = s.nodesTraversed;
     stats["gl_objects_drawn"] = s.objectsDrawn;
     stats["gl_draw_calls"] = s.drawCalls;
+    stats["gl_triangles_drawn"] = m.renderer->stats().trianglesDrawn - trianglesBefore;
+    stats["gl_submit_ms"] = ms - (after.finishMs - before.finishMs); // traversal and submission, without glFinish
     stats["gl_approximate"] = s.approximate;
     stats["gl_queries_skipped"] = s.queriesSkipped;
     stats["gl_context"] = m.context->description();
