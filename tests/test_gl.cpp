@@ -22,10 +22,13 @@
 #include <link.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 using namespace rgvc;
@@ -371,6 +374,234 @@ TEST_CASE("Instanced drawing: moving one object uploads one instance and changes
     CHECK(inset < 2 * (1 - s.renderer.sphereInradius()) + 1e-4);
     CHECK(s.renderer.occluderInset(box({0, 0, 0}, {1, 1, 1})) < 1e-4);
     CHECK(!s.renderer.contains(9));
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Prisms: 2D shapes in x/z (2D y -> world z) extruded over world y
+
+namespace {
+
+/// The pixel (x to the right, y down) through which the front camera sees world point `p` (p.z < 0).
+std::pair<int, int> frontPixel(const Vec3& p, double fovDeg = 60) {
+    const double f = 1.0 / std::tan(0.5 * fovDeg * 3.14159265358979323846 / 180), aspect = double(kWidth) / kHeight;
+    const double nx = p.x * f / aspect / -p.z, ny = p.y * f / -p.z;
+    return {int((nx + 1) * 0.5 * kWidth), int((1 - ny) * 0.5 * kHeight)};
+}
+
+ConvexPolygon pentagon(Vec2 centre, double r) {
+    ConvexPolygon p;
+    for (int k = 0; k < 5; ++k) {
+        const double a = 2 * 3.14159265358979323846 * k / 5;
+        p.points.push_back(centre + r * Vec2(std::cos(a), std::sin(a)));
+    }
+    return p;
+}
+
+} // namespace
+
+TEST_CASE("Prisms: circle, box and polygon prisms hide what is behind them and show where expected", "[gl]") {
+    Scene s({box({-1, -1, -20}, {1, 1, -19})}); // id 1, far behind on the view axis
+    // A circle prism at world (0, *, -8): it hides the box.
+    s.renderer.setPrism(2, Ball<2>{{0, -8}, 2}, -3, 3);
+    ItemBufferImage img = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+    CHECK(img.visible == std::vector<ObjectId>{2});
+    CHECK(img.idAt(kWidth / 2, kHeight / 2) == std::optional<ObjectId>(2));
+    // Replaced by a polygon prism (a pentagon around (0, -8)): still hides it.
+    s.renderer.setPrism(2, pentagon({0, -8}, 2.5), -3, 3);
+    img = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+    CHECK(img.visible == std::vector<ObjectId>{2});
+    // A box prism the same way.
+    s.renderer.setPrism(2, Box<2>{{-2, -9}, {2, -7}}, -3, 3);
+    img = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+    CHECK(img.visible == std::vector<ObjectId>{2});
+
+    // Off the axis: a polygon prism on the right, a circle prism on the left, both showing beside the box.
+    s.renderer.setPrism(2, pentagon({4, -12}, 1.5), -1, 1);
+    s.renderer.setPrism(3, Ball<2>{{-4, -12}, 1.5}, -1, 1);
+    img = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+    CHECK(img.visible == std::vector<ObjectId>{1, 2, 3});
+    // The ray through a point inside a convex prism meets the prism; nothing is in front of it.
+    const auto [px, py] = frontPixel({4, 0, -12});
+    CHECK(img.idAt(px, py) == std::optional<ObjectId>(2));
+    const auto [cx, cy] = frontPixel({-4, 0, -12});
+    CHECK(img.idAt(cx, cy) == std::optional<ObjectId>(3));
+    // Above the prisms (y > 1 at z = -10.5, their nearest face) and in the corner: nothing.
+    const auto [ax, ay] = frontPixel({4, 2, -10.5});
+    CHECK(!img.idAt(ax, ay).has_value());
+    CHECK(!img.idAt(0, 0).has_value());
+
+    // The colour output and the query device draw prism ids too (GlQueryDevice::drawObjects is draw()).
+    GlQueryDevice device(s.renderer, kWidth, kHeight);
+    device.beginFrame(frontCamera());
+    const std::vector<ObjectId> wall = {2, 3};
+    device.drawObjects(wall);
+    const std::vector<Box<3>> behindPolygon = {box({3.8, -0.2, -16}, {4.2, 0.2, -15})};
+    const std::vector<Box<3>> inFront = {box({3.8, -0.2, -6}, {4.2, 0.2, -5})};
+    const QueryHandle qBehind = device.issueQuery(behindPolygon), qFront = device.issueQuery(inFront);
+    CHECK(device.queryResult(qBehind) == 0);
+    CHECK(device.queryResult(qFront) > 0);
+    device.endFrame();
+    const std::vector<std::uint8_t> rgba = device.framebuffer().readRgba();
+    const std::size_t at = (std::size_t(py) * kWidth + std::size_t(px)) * 4;
+    CHECK(int(rgba[at]) + rgba[at + 1] + rgba[at + 2] > 0);
+
+    // The camera inside a circle prism sees only it; distances and containment follow the drawn n-gon.
+    CHECK(s.renderer.drawnShapeContains(3, {-4, 0, -12}));
+    CHECK(s.renderer.drawnShapeContains(3, {-4, 0.999, -12}));
+    CHECK(!s.renderer.drawnShapeContains(3, {-4, 1.01, -12}));
+    CHECK(!s.renderer.drawnShapeContains(3, {-4 + 1.51, 0, -12}));
+    // Just inside the circle between two vertices of the n-gon: outside what is drawn.
+    const double mid = 3.14159265358979323846 / s.renderer.prismSides();
+    CHECK(!s.renderer.drawnShapeContains(3, {-4 + 1.4999 * std::cos(mid), 0, -12 + 1.4999 * std::sin(mid)}));
+    CHECK(s.renderer.drawnShapeContains(2, {4, 0, -12}));
+    CHECK(!s.renderer.drawnShapeContains(2, {4 + 1.6, 0, -12}));
+    const double above = s.renderer.distanceToDrawn(3, {-4, 4, -12});
+    CHECK(above <= 3.0);
+    CHECK(above > 2.99);
+    // (4, -7) is 3.60 from the pentagon's nearest vertex and 3.54 from its nearest edge's line.
+    CHECK(s.renderer.distanceToDrawn(2, {4, 0, -7}) <= 3.6);
+    CHECK(s.renderer.distanceToDrawn(2, {4, 0, -7}) > 3.5);
+    CHECK(s.renderer.distanceToDrawn(2, {4, 0, -12}) == 0);
+    Camera3 inside = frontCamera();
+    inside.position = {-4, 0, -12};
+    CHECK(itemBuffer(s.renderer, inside, kWidth, kHeight).visible == std::vector<ObjectId>{3});
+
+    // The inset puts a 2D culler's circle inside the drawn n-gon.
+    CHECK(s.renderer.circleInradius() == Approx(std::cos(mid)).margin(1e-6));
+    const double inset = s.renderer.occluderInset(Ball<2>{{0, -8}, 2}, -3, 3);
+    CHECK(inset >= 2 * (1 - std::cos(mid)));
+    CHECK(inset < 2 * (1 - std::cos(mid)) + 1e-4);
+    CHECK(s.renderer.occluderInset(pentagon({0, -8}, 2), -3, 3) < 1e-4);
+    CHECK(s.renderer.occluderInset(Box<2>{{0, 0}, {1, 1}}, 0, 1) < 1e-4);
+
+    // Removing: the box behind shows again where the prism was.
+    s.renderer.setPrism(2, pentagon({0, -8}, 2.5), -3, 3);
+    CHECK(itemBuffer(s.renderer, frontCamera(), kWidth, kHeight).visible == std::vector<ObjectId>{2, 3});
+    s.renderer.removeObject(2);
+    CHECK(!s.renderer.contains(2));
+    img = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+    CHECK(img.visible == std::vector<ObjectId>{1, 3});
+    CHECK(img.idAt(kWidth / 2, kHeight / 2) == std::optional<ObjectId>(1));
+    // A prism id can become a ball, and a ball a prism.
+    s.renderer.setPrism(4, pentagon({0, -8}, 2.5), -3, 3);
+    s.renderer.setObject(4, Ball<3>{{0, 0, -8}, 2});
+    s.renderer.setPrism(1, pentagon({0, -19.5}, 1.5), -1, 1);
+    img = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+    CHECK(img.visible == std::vector<ObjectId>{3, 4});
+}
+
+TEST_CASE("Prisms: a circle prism seen from above covers its inscribed 32-gon's pixels, close to the disc", "[gl]") {
+    Scene s;
+    const double r = 2, top = 1, eye = 6;
+    s.renderer.setPrism(1, Ball<2>{{0, 0}, r}, -2, top);
+    // Looking straight down (-y), image up = -z; the cap at distance eye - top.
+    const Camera3 down = makeCamera({0, eye, 0}, {0, -1, 0}, 60, culler_test::kInf, double(kWidth) / kHeight, {0, 0, -1});
+    const ItemBufferImage img = itemBuffer(s.renderer, down, kWidth, kHeight);
+    REQUIRE(img.visible == std::vector<ObjectId>{1});
+    const double pixelsPerUnit = 0.5 * kHeight / std::tan(3.14159265358979323846 / 6) / (eye - top);
+    const double disc = 3.14159265358979323846 * std::pow(r * pixelsPerUnit, 2);
+    const int n = s.renderer.prismSides();
+    const double ngon = disc * n / (2 * 3.14159265358979323846) * std::sin(2 * 3.14159265358979323846 / n);
+    const double count = img.pixelCounts[0];
+    INFO("pixels " << count << ", disc " << disc << ", 32-gon " << ngon);
+    CHECK(count < disc);
+    CHECK(std::abs(count - ngon) < 0.02 * ngon);
+    CHECK(img.idAt(kWidth / 2, kHeight / 2) == std::optional<ObjectId>(1));
+}
+
+TEST_CASE("Prisms: moving one uploads that object's data only, and bad input throws and changes nothing", "[gl]") {
+    Scene s({box({-6, -3, -12}, {6, 3, -11})}); // id 1, a back wall
+    const ConvexPolygon quad{{{-3, -8}, {-1, -8}, {-1, -7}, {-3, -6}}};
+    s.renderer.setPrism(2, Ball<2>{{0, -8}, 0.8}, -1, 1);
+    s.renderer.setPrism(3, quad, -1, 1);
+    s.renderer.setPrism(4, Box<2>{{2, -8}, {3, -7}}, -1, 1);
+    const ItemBufferImage before = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+    CHECK(before.visible == std::vector<ObjectId>{1, 2, 3, 4});
+    const RenderStats first = s.renderer.stats();
+    CHECK(first.instancesUploaded == 4);
+    CHECK(first.polygonVerticesUploaded == 8);
+    CHECK(first.objectsDrawn == 4);
+    CHECK(first.prismsDrawn == 3);
+    CHECK(first.trianglesDrawn == 12 + (4 * 32 - 4) + (4 * 4 - 4) + 12);
+    CHECK(first.drawCalls == 2 * 3); // box, circle and polygon kinds, back then front faces
+
+    // Nothing moved: nothing uploaded.
+    (void)itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+    CHECK(s.renderer.stats().instancesUploaded == 4);
+    CHECK(s.renderer.stats().uploadCalls == first.uploadCalls);
+
+    // The circle moves up: one instance.
+    s.renderer.setPrism(2, Ball<2>{{0, -8}, 0.8}, 0.5, 2.5);
+    ItemBufferImage after = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+    CHECK(s.renderer.stats().instancesUploaded == 5);
+    CHECK(s.renderer.stats().uploadCalls == first.uploadCalls + 1);
+    const std::uint32_t moved = s.renderer.itemOf(2);
+    int changed = 0, elsewhere = 0;
+    for (std::size_t i = 0; i < after.items.size(); ++i) {
+        if (after.items[i] == before.items[i]) continue;
+        ++changed;
+        elsewhere += after.items[i] != moved && before.items[i] != moved;
+    }
+    CHECK(changed > 20);
+    CHECK(elsewhere == 0);
+
+    // The polygon translated: its instance only, not its mesh.
+    s.renderer.setPrism(3, translated(quad, Vec2(-1, 0)), -1, 1);
+    after = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+    CHECK(s.renderer.stats().instancesUploaded == 6);
+    CHECK(s.renderer.stats().polygonVerticesUploaded == 8);
+    CHECK(s.renderer.stats().uploadCalls == first.uploadCalls + 2);
+    const auto [qx, qy] = frontPixel({-3, 0, -7.2});
+    CHECK(after.idAt(qx, qy) == std::optional<ObjectId>(3));
+    // Reshaped (a triangle now, in the same slice): its instance and its mesh, three calls.
+    s.renderer.setPrism(3, ConvexPolygon{{{-4, -8}, {-2, -8}, {-3, -6}}}, -1, 1);
+    after = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+    CHECK(s.renderer.stats().instancesUploaded == 7);
+    CHECK(s.renderer.stats().polygonVerticesUploaded == 8 + 6);
+    CHECK(s.renderer.stats().uploadCalls == first.uploadCalls + 5);
+    CHECK(after.idAt(qx, qy) == std::optional<ObjectId>(3));
+
+    // Bad input: InvalidInput naming the field, and nothing changes (not even object 2).
+    const std::size_t count = s.renderer.objectCount();
+    const RenderStats statsBefore = s.renderer.stats();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<std::tuple<ObjectId, Shape<2>, double, double, std::string>> bad = {
+        {9, Ball<2>{{nan, 0}, 1}, 0, 1, "prism 9.center"},
+        {2, Ball<2>{{0, -8}, -1}, 0, 1, "prism 2.radius"},
+        {2, Ball<2>{{0, -8}, 1}, 1, 1, "prism 2.y1"},
+        {2, Ball<2>{{0, -8}, 1}, 2, 1, "prism 2.y1"},
+        {2, Ball<2>{{0, -8}, 1}, nan, 1, "prism 2.y0"},
+        {9, Box<2>{{0, 0}, {1, 1}}, 0, std::numeric_limits<double>::infinity(), "prism 9.y1"},
+        {9, Box<2>{{1, 0}, {0, 1}}, 0, 1, "prism 9.max"},
+        {3, ConvexPolygon{{{0, 0}, {2, 0}, {1, 0.5}, {2, 2}, {0, 2}}}, 0, 1, "prism 3.points"}, // not convex
+        {9, ConvexPolygon{{{0, 0}, {1, 0}}}, 0, 1, "prism 9.points"},
+    };
+    for (const auto& [id, shape, y0, y1, field] : bad) {
+        INFO("expected field " << field);
+        try {
+            s.renderer.setPrism(id, shape, y0, y1);
+            FAIL_CHECK("no error");
+        } catch (const InvalidInput& e) {
+            CHECK(e.field() == field);
+        }
+    }
+    CHECK(s.renderer.objectCount() == count);
+    CHECK(!s.renderer.contains(9));
+    CHECK(itemBuffer(s.renderer, frontCamera(), kWidth, kHeight).items == after.items);
+    CHECK(s.renderer.stats().instancesUploaded == statsBefore.instancesUploaded);
+    CHECK_THROWS_AS(SceneRenderer(*s.context, SceneRendererOptions{.prismSides = 2}), InvalidInput);
+
+    // Removed and added again: the slot and the freed mesh slice are reused (no reallocation).
+    s.renderer.removeObject(3);
+    after = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+    CHECK(after.idAt(qx, qy) == std::optional<ObjectId>(1));
+    const RenderStats beforeAdd = s.renderer.stats();
+    s.renderer.setPrism(5, quad, -1, 1);
+    CHECK(s.renderer.itemOf(5) == 3); // object 3's slot
+    after = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+    CHECK(s.renderer.stats().polygonVerticesUploaded == beforeAdd.polygonVerticesUploaded + 8);
+    CHECK(s.renderer.stats().uploadCalls == beforeAdd.uploadCalls + 3);
+    CHECK(after.visible == std::vector<ObjectId>{1, 2, 4, 5});
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -106,6 +106,8 @@ SceneRenderer::SceneRenderer(GlContext& context, const SceneRendererOptions& opt
         throw InvalidInput("SceneRendererOptions.nearPlane", "must be finite and > 0");
     if (m_options.sphere.indices.empty() || m_options.sphere.positions.empty())
         throw InvalidInput("SceneRendererOptions.sphere", "the sphere mesh is empty");
+    if (m_options.prismSides < 3 || m_options.prismSides > 4096)
+        throw InvalidInput("SceneRendererOptions.prismSides", "must be in [3, 4096], got " + std::to_string(m_options.prismSides));
     try {
         init();
     } catch (...) {
@@ -137,12 +139,33 @@ void SceneRenderer::init() {
         if (glm::length(n) > 0) m_spherePlanes.emplace_back(glm::normalize(n), glm::dot(glm::normalize(n), a));
     }
 
-    // Both meshes in one vertex and one index buffer: the sphere first, then the unit box.
+    // The unit circle prism: the regular n-gon inscribed in the unit circle (float vertices scaled down
+    // until they lie in it, as the sphere meshes do), extruded over y in [0, 1]. Its edge lines and
+    // inradius come from those float vertices, which is what is drawn.
+    const int sides = m_options.prismSides;
+    std::vector<glm::dvec2> ngon;
+    for (int k = 0; k < sides; ++k) {
+        const double a = 2.0 * 3.14159265358979323846 * k / sides;
+        glm::vec2 f(float(std::cos(a)), float(std::sin(a)));
+        while (glm::length(glm::dvec2(f)) > 1.0) f *= 1.0f - 1e-7f;
+        ngon.emplace_back(f);
+    }
+    m_circleInradius = 1.0;
+    for (int k = 0; k < sides; ++k) {
+        const glm::dvec2 a = ngon[std::size_t(k)], e = ngon[std::size_t((k + 1) % sides)] - a;
+        const glm::dvec2 n = glm::normalize(glm::dvec2(e.y, -e.x)); // outward: the n-gon is counter-clockwise
+        m_circleEdges.emplace_back(n, glm::dot(n, a));
+        m_circleInradius = std::min(m_circleInradius, glm::dot(n, a));
+    }
+    const Mesh circle = prism(ngon, 0, 1);
+
+    // The instanced meshes in one vertex and one index buffer: the sphere, the unit box, the unit n-gon
+    // prism. Polygon prisms have buffers of their own (m_polyVbo, m_polyIbo).
     const Mesh box = unitBox();
-    const Mesh* meshes[KindCount] = {&m_options.sphere, &box};
+    const Mesh* meshes[PolygonKind] = {&m_options.sphere, &box, &circle};
     std::vector<glm::vec3> positions;
     std::vector<std::uint32_t> indices;
-    for (int k = 0; k < KindCount; ++k) {
+    for (int k = 0; k < PolygonKind; ++k) {
         m_baseVertex[k] = GLint(positions.size());
         m_indexOffset[k] = GLint(indices.size());
         m_indexCount[k] = GLint(meshes[k]->indices.size());
@@ -156,6 +179,9 @@ void SceneRenderer::init() {
     gl.GenBuffers(1, &m_instanceBuffer);
     gl.GenBuffers(1, &m_listRing.buffer);
     gl.GenBuffers(1, &m_boxRing.buffer);
+    gl.GenBuffers(1, &m_commandRing.buffer);
+    gl.GenBuffers(1, &m_polyVbo);
+    gl.GenBuffers(1, &m_polyIbo);
 
     // Objects: mesh positions per vertex, the slot per instance (from the draw list ring).
     gl.GenVertexArrays(1, &m_objectVao);
@@ -171,6 +197,22 @@ void SceneRenderer::init() {
     gl.EnableVertexAttribArray(kSlot);
     gl.VertexAttribIPointer(kSlot, 1, GL_UNSIGNED_INT, sizeof(std::uint32_t), nullptr);
     gl.VertexAttribDivisor(kSlot, 1);
+
+    // Polygon prisms: their own mesh buffers, the same slot attribute (one instance per draw command,
+    // its base instance pointing into the draw list).
+    gl.GenVertexArrays(1, &m_polyVao);
+    gl.BindVertexArray(m_polyVao);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_polyIbo);
+    gl.BindBuffer(GL_ARRAY_BUFFER, m_polyVbo);
+    gl.EnableVertexAttribArray(kPosition);
+    gl.VertexAttribPointer(kPosition, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+    gl.BindBuffer(GL_ARRAY_BUFFER, m_listRing.buffer);
+    gl.EnableVertexAttribArray(kSlot);
+    gl.VertexAttribIPointer(kSlot, 1, GL_UNSIGNED_INT, sizeof(std::uint32_t), nullptr);
+    gl.VertexAttribDivisor(kSlot, 1);
+    m_commandRing.capacity = 1 << 16;
+    gl.BindBuffer(GL_ARRAY_BUFFER, m_commandRing.buffer);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_commandRing.capacity), nullptr, GL_STREAM_DRAW);
 
     // Query boxes: the unit box per vertex, (min, max) per instance (from the box ring).
     gl.GenVertexArrays(1, &m_boxVao);
@@ -206,40 +248,63 @@ void SceneRenderer::release() {
             if (q) gl.DeleteProgram(q), q = 0;
     for (GLuint& q : m_boxProgram)
         if (q) gl.DeleteProgram(q), q = 0;
-    GLuint buffers[] = {m_meshVbo, m_meshIbo, m_instanceBuffer, m_listRing.buffer, m_boxRing.buffer};
-    gl.DeleteBuffers(5, buffers);
-    GLuint vaos[] = {m_objectVao, m_boxVao};
-    gl.DeleteVertexArrays(2, vaos);
+    GLuint buffers[] = {m_meshVbo, m_meshIbo, m_instanceBuffer, m_listRing.buffer, m_boxRing.buffer, m_commandRing.buffer, m_polyVbo, m_polyIbo};
+    gl.DeleteBuffers(8, buffers);
+    GLuint vaos[] = {m_objectVao, m_boxVao, m_polyVao};
+    gl.DeleteVertexArrays(3, vaos);
     m_meshVbo = m_meshIbo = m_instanceBuffer = m_listRing.buffer = m_boxRing.buffer = m_objectVao = m_boxVao = 0;
+    m_commandRing.buffer = m_polyVbo = m_polyIbo = m_polyVao = 0;
+}
+
+void SceneRenderer::anchorAt(const glm::dvec3& centre) {
+    if (m_hasAnchor) return;
+    m_anchor = centre;
+    m_hasAnchor = true;
+}
+
+std::uint32_t SceneRenderer::slotFor(ObjectId id, bool& added) {
+    auto it = m_slotOf.find(id);
+    added = it == m_slotOf.end();
+    if (!added) return it->second;
+    std::uint32_t slot;
+    if (!m_freeSlots.empty()) {
+        slot = m_freeSlots.back();
+        m_freeSlots.pop_back();
+    } else {
+        slot = std::uint32_t(m_slots.size());
+        m_slots.emplace_back();
+        m_instances.emplace_back();
+    }
+    m_slotOf.emplace(id, slot);
+    m_slots[slot].id = id;
+    m_slots[slot].used = true;
+    return slot;
+}
+
+void SceneRenderer::markDirty(std::uint32_t slot) {
+    Slot& info = m_slots[slot];
+    if (!info.dirty) {
+        info.dirty = true;
+        m_dirtySlots.push_back(slot);
+    }
+}
+
+void SceneRenderer::updateExtent(const Instance& inst) {
+    for (int a = 0; a < 3; ++a)
+        m_extent = std::max(m_extent, std::abs(double(inst.offset[a])) + std::abs(double(inst.scale[a])));
 }
 
 void SceneRenderer::setObject(ObjectId id, const Shape<3>& shape) {
     Shape<3> s = shape;
     validateShape<3>(s, [&] { return "object " + std::to_string(id); });
     const Box<3> bounds = boundsOf<3>(s);
-    if (!m_hasAnchor) {
-        m_anchor = 0.5 * (bounds.min + bounds.max);
-        m_hasAnchor = true;
-    }
-    std::uint32_t slot;
-    auto it = m_slotOf.find(id);
-    if (it != m_slotOf.end()) {
-        slot = it->second;
-    } else {
-        if (!m_freeSlots.empty()) {
-            slot = m_freeSlots.back();
-            m_freeSlots.pop_back();
-        } else {
-            slot = std::uint32_t(m_slots.size());
-            m_slots.emplace_back();
-            m_instances.emplace_back();
-        }
-        m_slotOf.emplace(id, slot);
-        m_slots[slot].id = id;
-        m_slots[slot].used = true;
-    }
+    anchorAt(0.5 * (bounds.min + bounds.max));
+    bool added = false;
+    const std::uint32_t slot = slotFor(id, added);
+    releasePolygon(slot);
     Instance& inst = m_instances[slot];
     Slot& info = m_slots[slot];
+    info.prism = false;
     if (const Ball<3>* ball = std::get_if<Ball<3>>(&s)) {
         info.kind = SphereKind;
         const glm::dvec3 c = ball->center - m_anchor;
@@ -259,12 +324,131 @@ void SceneRenderer::setObject(ObjectId id, const Shape<3>& shape) {
         }
     }
     inst.offset[3] = inst.scale[3] = 0;
-    for (int a = 0; a < 3; ++a)
-        m_extent = std::max(m_extent, std::abs(double(inst.offset[a])) + std::abs(double(inst.scale[a])));
-    if (!info.dirty) {
-        info.dirty = true;
-        m_dirtySlots.push_back(slot);
+    updateExtent(inst);
+    markDirty(slot);
+}
+
+void SceneRenderer::setPrism(ObjectId id, const Shape<2>& shape, double y0, double y1) {
+    Shape<2> s = shape;
+    const auto field = [&] { return "prism " + std::to_string(id); };
+    validateShape<2>(s, field); // polygons come back counter-clockwise
+    if (!std::isfinite(y0)) throw InvalidInput(field() + ".y0", "must be finite");
+    if (!std::isfinite(y1)) throw InvalidInput(field() + ".y1", "must be finite");
+    if (!(y0 < y1)) throw InvalidInput(field() + ".y1", "must exceed y0 (" + std::to_string(y0) + "), got " + std::to_string(y1));
+    if (const Box<2>* b = std::get_if<Box<2>>(&s)) {
+        // Exactly the box it spans: drawn (and rounded) as setObject's boxes are.
+        setObject(id, Box<3>{{b->min.x, y0, b->min.y}, {b->max.x, y1, b->max.y}});
+        m_slots[m_slotOf.at(id)].prism = true;
+        return;
     }
+    const Box<2> bounds = boundsOf<2>(s);
+    anchorAt({0.5 * (bounds.min.x + bounds.max.x), 0.5 * (y0 + y1), 0.5 * (bounds.min.y + bounds.max.y)});
+    // The y slab, inwards as for boxes: the drawn prism lies in [y0, y1].
+    const float lo = floatUp(y0 - m_anchor.y), hi = floatDown(y1 - m_anchor.y);
+    const float height = std::max(0.0f, floatDown(double(hi) - double(lo)));
+
+    if (const Ball<2>* circle = std::get_if<Ball<2>>(&s)) {
+        bool added = false;
+        const std::uint32_t slot = slotFor(id, added);
+        releasePolygon(slot);
+        Slot& info = m_slots[slot];
+        info.kind = CircleKind;
+        info.prism = true;
+        Instance& inst = m_instances[slot];
+        const float r = floatDown(circle->radius); // the n-gon in the unit circle stays in the circle
+        inst.offset[0] = float(circle->center.x - m_anchor.x);
+        inst.offset[1] = lo;
+        inst.offset[2] = float(circle->center.y - m_anchor.z);
+        inst.scale[0] = inst.scale[2] = r;
+        inst.scale[1] = height;
+        inst.offset[3] = inst.scale[3] = 0;
+        updateExtent(inst);
+        markDirty(slot);
+        return;
+    }
+
+    const std::vector<Vec2>& pts = std::get<ConvexPolygon>(s).points;
+    const auto m = std::uint32_t(pts.size());
+    std::vector<glm::dvec2> relative(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) relative[i] = pts[i] - pts[0];
+    // Everything that can throw (the mesh) before the renderer changes.
+    const Mesh mesh = prism(relative, 0, 1);
+    bool added = false;
+    const std::uint32_t slot = slotFor(id, added);
+    Slot& info = m_slots[slot];
+    auto it = info.kind == PolygonKind && !added ? m_polygons.find(slot) : m_polygons.end();
+    if (it == m_polygons.end() || it->second.relative != relative) {
+        // A new shape (not only a new position): write its mesh slice, in place when it fits.
+        if (it != m_polygons.end() && it->second.capacity < m) {
+            releasePolygon(slot);
+            it = m_polygons.end();
+        }
+        if (it == m_polygons.end()) {
+            releasePolygon(slot); // a stale mesh of a removed polygon prism cannot be here, but be sure
+            const PolygonSlice slice = allocatePolygon(m);
+            PolygonMesh pm;
+            pm.firstVertex = slice.firstVertex;
+            pm.capacity = slice.capacity;
+            pm.firstIndex = slice.firstIndex;
+            it = m_polygons.emplace(slot, std::move(pm)).first;
+        }
+        PolygonMesh& pm = it->second;
+        pm.points = m;
+        pm.relative = std::move(relative);
+        std::copy(mesh.positions.begin(), mesh.positions.end(), m_polyPositions.begin() + pm.firstVertex);
+        std::copy(mesh.indices.begin(), mesh.indices.end(), m_polyIndices.begin() + pm.firstIndex);
+        // Drawn edge lines from the float points (counter-clockwise, as prism() keeps them).
+        pm.drawn.clear();
+        pm.edges.clear();
+        for (std::uint32_t i = 0; i < m; ++i) pm.drawn.emplace_back(mesh.positions[i].x, mesh.positions[i].z);
+        for (std::uint32_t i = 0; i < m; ++i) {
+            const glm::dvec2 a = pm.drawn[i], e = pm.drawn[(i + 1) % m] - a;
+            if (!(glm::length(e) > 0)) continue;
+            const glm::dvec2 n = glm::normalize(glm::dvec2(e.y, -e.x));
+            pm.edges.emplace_back(n, glm::dot(n, a));
+        }
+        if (!pm.dirty) m_dirtyPolygons.push_back(slot);
+        pm.dirty = true;
+    }
+    info.kind = PolygonKind;
+    info.prism = true;
+    Instance& inst = m_instances[slot];
+    inst.offset[0] = float(pts[0].x - m_anchor.x);
+    inst.offset[1] = lo;
+    inst.offset[2] = float(pts[0].y - m_anchor.z);
+    inst.scale[0] = inst.scale[2] = 1;
+    inst.scale[1] = height;
+    inst.offset[3] = inst.scale[3] = 0;
+    double reachX = 0, reachZ = 0;
+    for (const glm::dvec2& q : it->second.drawn) reachX = std::max(reachX, std::abs(q.x)), reachZ = std::max(reachZ, std::abs(q.y));
+    m_extent = std::max({m_extent, std::abs(double(inst.offset[0])) + reachX, std::abs(double(inst.offset[1])) + double(height),
+                         std::abs(double(inst.offset[2])) + reachZ});
+    markDirty(slot);
+}
+
+SceneRenderer::PolygonSlice SceneRenderer::allocatePolygon(std::uint32_t points) {
+    // First fit among freed slices; otherwise a new one at the end of the buffers.
+    for (std::size_t i = 0; i < m_freePolygons.size(); ++i)
+        if (m_freePolygons[i].capacity >= points) {
+            const PolygonSlice r = m_freePolygons[i];
+            m_freePolygons[i] = m_freePolygons.back();
+            m_freePolygons.pop_back();
+            return r;
+        }
+    PolygonSlice r;
+    r.firstVertex = std::uint32_t(m_polyPositions.size());
+    r.firstIndex = std::uint32_t(m_polyIndices.size());
+    r.capacity = points;
+    m_polyPositions.resize(m_polyPositions.size() + 2 * std::size_t(points));
+    m_polyIndices.resize(m_polyIndices.size() + 12 * std::size_t(points) - 12);
+    return r;
+}
+
+void SceneRenderer::releasePolygon(std::uint32_t slot) {
+    auto it = m_polygons.find(slot);
+    if (it == m_polygons.end()) return;
+    m_freePolygons.push_back({it->second.firstVertex, it->second.capacity, it->second.firstIndex});
+    m_polygons.erase(it); // an entry left in m_dirtyPolygons finds no mesh (or a newer dirty one) and is skipped
 }
 
 void SceneRenderer::removeObject(ObjectId id) {
@@ -272,7 +456,9 @@ void SceneRenderer::removeObject(ObjectId id) {
     if (it == m_slotOf.end()) return;
     const std::uint32_t slot = it->second;
     m_slotOf.erase(it);
+    releasePolygon(slot);
     m_slots[slot].used = false;
+    m_slots[slot].prism = false;
     m_freeSlots.push_back(slot);
     // The GPU record stays as it was: nothing draws an unused slot.
 }
@@ -324,8 +510,47 @@ void SceneRenderer::setCamera(const Camera3& camera, double nearPlane) {
     m_farSquared = m_farClip ? float(camera.far * camera.far) : 0.0f;
 }
 
+void SceneRenderer::uploadPolygons() {
+    const GlFunctions& gl = m_gl;
+    if (m_dirtyPolygons.empty()) return;
+    // Uploaded through GL_ARRAY_BUFFER, index data too: binding GL_ELEMENT_ARRAY_BUFFER would change
+    // whichever vertex array is bound.
+    if (m_polyGpuVertices < m_polyPositions.size() || m_polyGpuIndices < m_polyIndices.size()) {
+        // Grown: reallocate both (doubling) and send all of both once.
+        m_polyGpuVertices = std::max<std::size_t>(4096, std::max(m_polyPositions.size(), 2 * m_polyGpuVertices));
+        m_polyGpuIndices = std::max<std::size_t>(4 * 4096, std::max(m_polyIndices.size(), 2 * m_polyGpuIndices));
+        gl.BindBuffer(GL_ARRAY_BUFFER, m_polyVbo);
+        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_polyGpuVertices * sizeof(glm::vec3)), nullptr, GL_DYNAMIC_DRAW);
+        gl.BufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(m_polyPositions.size() * sizeof(glm::vec3)), m_polyPositions.data());
+        gl.BindBuffer(GL_ARRAY_BUFFER, m_polyIbo);
+        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_polyGpuIndices * sizeof(std::uint32_t)), nullptr, GL_DYNAMIC_DRAW);
+        gl.BufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(m_polyIndices.size() * sizeof(std::uint32_t)), m_polyIndices.data());
+        m_stats.polygonVerticesUploaded += m_polyPositions.size();
+        m_stats.uploadCalls += 4;
+        for (auto& [slot, pm] : m_polygons) pm.dirty = false;
+        m_dirtyPolygons.clear();
+        return;
+    }
+    for (std::uint32_t slot : m_dirtyPolygons) {
+        auto it = m_polygons.find(slot);
+        if (it == m_polygons.end() || !it->second.dirty) continue;
+        PolygonMesh& pm = it->second;
+        gl.BindBuffer(GL_ARRAY_BUFFER, m_polyVbo);
+        gl.BufferSubData(GL_ARRAY_BUFFER, GLintptr(pm.firstVertex * sizeof(glm::vec3)), GLsizeiptr(2 * pm.points * sizeof(glm::vec3)),
+                         &m_polyPositions[pm.firstVertex]);
+        gl.BindBuffer(GL_ARRAY_BUFFER, m_polyIbo);
+        gl.BufferSubData(GL_ARRAY_BUFFER, GLintptr(pm.firstIndex * sizeof(std::uint32_t)),
+                         GLsizeiptr((12 * pm.points - 12) * sizeof(std::uint32_t)), &m_polyIndices[pm.firstIndex]);
+        m_stats.polygonVerticesUploaded += 2 * pm.points;
+        m_stats.uploadCalls += 2;
+        pm.dirty = false;
+    }
+    m_dirtyPolygons.clear();
+}
+
 void SceneRenderer::uploadDirty() {
     const GlFunctions& gl = m_gl;
+    uploadPolygons();
     gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, m_instanceBuffer);
     if (m_gpuCapacity < m_instances.size()) {
         // Grown: reallocate (doubling) and send everything once.
@@ -390,26 +615,33 @@ void SceneRenderer::applyState() {
 
 void SceneRenderer::draw(std::span<const ObjectId> ids, DrawOutput output) {
     for (auto& list : m_drawList) list.clear();
+    m_listPrisms = 0;
     for (ObjectId id : ids) {
         auto it = m_slotOf.find(id);
         if (it == m_slotOf.end()) {
             for (auto& list : m_drawList) list.clear();
             throw InvalidInput("ids", "object " + std::to_string(id) + " is not in the renderer");
         }
-        m_drawList[m_slots[it->second].kind].push_back(it->second);
+        const Slot& info = m_slots[it->second];
+        m_drawList[info.kind].push_back(it->second);
+        m_listPrisms += info.prism;
     }
     drawSlots(output);
 }
 
 void SceneRenderer::drawAll(DrawOutput output) {
     for (auto& list : m_drawList) list.clear();
+    m_listPrisms = 0;
     for (std::uint32_t s = 0; s < m_slots.size(); ++s)
-        if (m_slots[s].used) m_drawList[m_slots[s].kind].push_back(s);
+        if (m_slots[s].used) {
+            m_drawList[m_slots[s].kind].push_back(s);
+            m_listPrisms += m_slots[s].prism;
+        }
     drawSlots(output);
 }
 
 void SceneRenderer::drawSlots(DrawOutput output) {
-    if (m_drawList[SphereKind].empty() && m_drawList[BoxKind].empty()) return;
+    if (std::all_of(std::begin(m_drawList), std::end(m_drawList), [](const auto& list) { return list.empty(); })) return;
     const GlFunctions& gl = m_gl;
     uploadDirty();
     applyState();
@@ -447,8 +679,9 @@ void SceneRenderer::drawSlots(DrawOutput output) {
     for (const auto& list : m_drawList) {
         m_stats.objectsDrawn += list.size();
     }
-    m_stats.trianglesDrawn += m_drawList[SphereKind].size() * std::uint64_t(m_indexCount[SphereKind] / 3) +
-                              m_drawList[BoxKind].size() * std::uint64_t(m_indexCount[BoxKind] / 3);
+    for (int k = 0; k < PolygonKind; ++k) m_stats.trianglesDrawn += m_drawList[k].size() * std::uint64_t(m_indexCount[k] / 3);
+    for (std::uint32_t slot : m_drawList[PolygonKind]) m_stats.trianglesDrawn += 4 * std::uint64_t(m_polygons.at(slot).points) - 4;
+    m_stats.prismsDrawn += m_listPrisms;
 }
 
 void SceneRenderer::drawLists() {
@@ -457,6 +690,25 @@ void SceneRenderer::drawLists() {
         const std::vector<std::uint32_t>& list = m_drawList[k];
         if (list.empty()) continue;
         const std::size_t at = stream(m_listRing, list.data(), list.size() * sizeof(std::uint32_t), sizeof(std::uint32_t));
+        if (k == PolygonKind) {
+            // A mesh slice each: one command per polygon, one instance each, whose base instance reads
+            // its slot from the draw list; all of them in one call.
+            m_commands.clear();
+            for (std::size_t i = 0; i < list.size(); ++i) {
+                const PolygonMesh& pm = m_polygons.at(list[i]);
+                m_commands.push_back({12 * pm.points - 12, 1, pm.firstIndex, std::int32_t(pm.firstVertex),
+                                      std::uint32_t(at / sizeof(std::uint32_t) + i)});
+            }
+            const std::size_t cmdAt = stream(m_commandRing, m_commands.data(), m_commands.size() * sizeof(DrawCommand), sizeof(std::uint32_t));
+            gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, m_commandRing.buffer);
+            gl.BindVertexArray(m_polyVao);
+            gl.MultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<void*>(cmdAt), GLsizei(m_commands.size()),
+                                         sizeof(DrawCommand));
+            gl.BindVertexArray(m_objectVao);
+            gl.BindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+            ++m_stats.drawCalls;
+            continue;
+        }
         gl.DrawElementsInstancedBaseVertexBaseInstance(GL_TRIANGLES, m_indexCount[k], GL_UNSIGNED_INT,
                                                        reinterpret_cast<void*>(std::size_t(m_indexOffset[k]) * sizeof(std::uint32_t)),
                                                        GLsizei(list.size()), m_baseVertex[k], GLuint(at / sizeof(std::uint32_t)));
@@ -469,9 +721,25 @@ bool SceneRenderer::drawnShapeContains(ObjectId id, const Vec3& point, double to
     const Instance& inst = m_instances[slot];
     const glm::dvec3 p = point - m_anchor;
     const glm::dvec3 o(inst.offset[0], inst.offset[1], inst.offset[2]), sc(inst.scale[0], inst.scale[1], inst.scale[2]);
-    if (m_slots[slot].kind == BoxKind) {
+    const Kind kind = m_slots[slot].kind;
+    if (kind == BoxKind) {
         for (int a = 0; a < 3; ++a)
             if (!(p[a] >= o[a] - tolerance && p[a] <= o[a] + sc[a] + tolerance)) return false;
+        return true;
+    }
+    if (kind == CircleKind || kind == PolygonKind) {
+        if (!(p.y >= o.y - tolerance && p.y <= o.y + sc.y + tolerance)) return false;
+        if (kind == PolygonKind) {
+            const glm::dvec2 q(p.x - o.x, p.z - o.z);
+            for (const glm::dvec3& e : m_polygons.at(slot).edges)
+                if (!(e.x * q.x + e.y * q.y <= e.z + tolerance)) return false;
+            return true;
+        }
+        const glm::dvec2 q = glm::dvec2(p.x - o.x, p.z - o.z) / sc.x; // in the unit n-gon's frame
+        const double t = tolerance / sc.x;
+        if (!(glm::dot(q, q) <= (1.0 + t) * (1.0 + t))) return false;
+        for (const glm::dvec3& e : m_circleEdges)
+            if (!(e.x * q.x + e.y * q.y <= e.z + t)) return false;
         return true;
     }
     const glm::dvec3 q = (p - o) / sc.x; // in the unit mesh's frame
@@ -491,12 +759,36 @@ double SceneRenderer::occluderInset(const Shape<3>& shape) const {
     return margin;
 }
 
+double SceneRenderer::occluderInset(const Shape<2>& shape, double y0, double y1) const {
+    const Box<2> b2 = boundsOf<2>(shape);
+    const Box<3> b{{b2.min.x, y0, b2.min.y}, {b2.max.x, y1, b2.max.y}};
+    const glm::dvec3 anchor = m_hasAnchor ? m_anchor : 0.5 * (b.min + b.max);
+    const double reach = std::max(glm::length(b.min - anchor), glm::length(b.max - anchor)) + glm::length(b.max - b.min);
+    const double margin = 1e-6 * reach;
+    if (const Ball<2>* circle = std::get_if<Ball<2>>(&shape)) return circle->radius * (1.0 - m_circleInradius) + margin;
+    return margin;
+}
+
 double SceneRenderer::distanceToDrawn(ObjectId id, const Vec3& point) const {
     const std::uint32_t slot = itemOf(id) - 1;
     const Instance& inst = m_instances[slot];
     const glm::dvec3 p = point - m_anchor;
     const glm::dvec3 o(inst.offset[0], inst.offset[1], inst.offset[2]), sc(inst.scale[0], inst.scale[1], inst.scale[2]);
-    if (m_slots[slot].kind == BoxKind) return glm::length(p - glm::clamp(p, o, o + sc));
+    const Kind kind = m_slots[slot].kind;
+    if (kind == BoxKind) return glm::length(p - glm::clamp(p, o, o + sc));
+    if (kind == CircleKind || kind == PolygonKind) {
+        // The prism lies in (its y slab) x (the circle, or each edge's half-plane): the distance to that
+        // set is a lower bound.
+        const double dy = std::max({0.0, o.y - p.y, p.y - (o.y + sc.y)});
+        const glm::dvec2 q(p.x - o.x, p.z - o.z);
+        double d2 = 0;
+        if (kind == CircleKind) {
+            d2 = std::max(0.0, glm::length(q) - sc.x);
+        } else {
+            for (const glm::dvec3& e : m_polygons.at(slot).edges) d2 = std::max(d2, e.x * q.x + e.y * q.y - e.z);
+        }
+        return std::sqrt(d2 * d2 + dy * dy);
+    }
     return std::max(0.0, glm::length(p - o) - sc.x); // the mesh lies in the ball of radius scale
 }
 

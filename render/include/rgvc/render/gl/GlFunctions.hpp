@@ -85,6 +85,7 @@ namespace rgvc {
     X(PFNGLUNIFORM3FPROC, Uniform3f)                                                                         \
     X(PFNGLUNIFORM1FPROC, Uniform1f)                                                                         \
     X(PFNGLDRAWELEMENTSINSTANCEDBASEVERTEXBASEINSTANCEPROC, DrawElementsInstancedBaseVertexBaseInstance)     \
+    X(PFNGLMULTIDRAWELEMENTSINDIRECTPROC, MultiDrawElementsIndirect)                                         \
     X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                                                             \
     X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                                       \
     X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                                             \
