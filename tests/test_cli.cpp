@@ -464,6 +464,11 @@ TEST_CASE("cull --gl: the GL stage's pvs holds every object the item buffer of a
         }
         CHECK(shrunk > 0); // the queries culled something the grid kept
     }
+    // n_vp above 0 is labelled approximate; t_av is accepted.
+    Run approx = runRgvc("cull " + quote(path) + " --gl --gl-size 96x64 --gl-nvp 4 --gl-tav 2 --frames 2");
+    REQUIRE(approx.status == 0);
+    for (const json& l : approx.lines()) CHECK(l["stats"]["gl_approximate"] == true);
+    checkRejected(runRgvc("cull " + quote(path) + " --gl --gl-nvp -1"), "rgvc cull: --gl-nvp");
     // Errors: a context that cannot be made, and a 2D scene.
     checkRejected(runRgvc("cull " + quote(path) + " --gl --gl-size 20000x10"), "rgvc cull: --gl-size");
     checkRejected(runRgvc("cull " + quote(scenePath("fig1-2d.json")) + " --gl"), "rgvc cull: --gl: ");

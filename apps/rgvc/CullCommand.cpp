@@ -49,6 +49,7 @@ const char* const kCullUsage =
     "usage: rgvc cull SCENE.json [--frames N] [--dump-objects] [--no-occlusion] [--no-extension]\n"
     "                 [--no-tbv] [--filled-tbv] [--caps-every-frame] [--buffer-rows R] [--buffer-bins B]\n"
     "                 [--shells] [--image-rows R] [--adaptive-buffer] [--gl] [--gl-method M] [--gl-size WxH]\n"
+    "                 [--gl-nvp N] [--gl-tav F]\n"
     "\n"
     "Runs N frames of a scene file (the format is described in the project README) and prints one\n"
     "JSON object per frame on stdout:\n"
@@ -80,6 +81,9 @@ const char* const kCullUsage =
     "                   uses each ball shrunk to its mesh's inradius as its occluder (occluderInset)\n"
     "  --gl-method M    chcpp (default: CHC++), chc, sw (hierarchical stop-and-wait), vfc, zb\n"
     "  --gl-size WxH    [pixels] the GL stage's image, 1..16384 each (default 640x480)\n"
+    "  --gl-nvp N       CHC's visible-pixel threshold n_vp (default 0; above 0 the answer is approximate:\n"
+    "                   it may miss objects showing N pixels or fewer, and stats.gl_approximate says so)\n"
+    "  --gl-tav F       CHC's assumed-visible frames t_av (default 0: visible leaves are queried every frame)\n"
     "  -h, --help       this text\n"
     "\n"
     "stats: cull_ms (library time of the frame, scene update included), update_ms (its scene-update\n"
@@ -171,6 +175,12 @@ CullArgs parseArgs(int argc, char** argv) {
                 } catch (const std::invalid_argument& e) {
                     throw UsageError(e.what());
                 }
+            } else if (arg == "--gl-nvp") {
+                if (i + 1 >= argc) throw UsageError("--gl-nvp: missing value");
+                a.gl.visiblePixels = parseInteger("--gl-nvp", argv[++i], 0, 1u << 30);
+            } else if (arg == "--gl-tav") {
+                if (i + 1 >= argc) throw UsageError("--gl-tav: missing value");
+                a.gl.assumedVisibleFrames = int(parseInteger("--gl-tav", argv[++i], 0, 1000));
             } else if (arg == "--gl-size") {
                 if (i + 1 >= argc) throw UsageError("--gl-size: missing value");
                 const std::string v = argv[++i];

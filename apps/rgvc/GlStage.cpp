@@ -87,7 +87,10 @@ const std::vector<ObjectId>& GlStage::frame(const Camera3& camera, std::span<con
         m.bvh.build(m.pending);
         m.pending.clear();
         // A PVS of 32 objects or fewer is drawn without queries (ChcOptions::queryMinCandidates).
-        m.chc = std::make_unique<ChcRenderer>(*m.device, m.bvh, ChcOptions{.queryMinCandidates = 32});
+        m.chc = std::make_unique<ChcRenderer>(*m.device, m.bvh,
+                                              ChcOptions{.visiblePixelThreshold = m.args.visiblePixels,
+                                                         .assumedVisibleFrames = m.args.assumedVisibleFrames,
+                                                         .queryMinCandidates = 32});
     } else {
         m.bvh.rebuildIfDegraded();
     }

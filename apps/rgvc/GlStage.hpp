@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
@@ -27,6 +28,8 @@ struct GlStageArgs {
     bool enabled = false;
     std::string method = "chcpp"; ///< chc, chcpp, sw, vfc, zb
     int width = 640, height = 480; ///< [Pixels]
+    std::uint64_t visiblePixels = 0; ///< n_vp ([Samples]; > 0 is approximate: stats.gl_approximate)
+    int assumedVisibleFrames = 0;    ///< t_av ([Frames])
 };
 
 class GlStage {
