@@ -847,3 +847,14 @@ TEST_CASE("CHC, CHC++ and S&W on the GL query device, over all objects and over 
     CHECK(runs[2].queries < runs[0].queries); // CHC++ < S&W
     CHECK(sumVisible > std::size_t(frames) * 10);
 }
+
+TEST_CASE("A camera looking straight down with the default up: the renderer reads cameraUp's frame", "[gl]") {
+    // +x to the right and -z at the top of the image (cameraUp), as the culler's frustum reads it.
+    Scene s({box({-1, -10, -6}, {1, -8, -4}), box({4, -10, -1}, {6, -8, 1})}); // ids 1 (towards -z), 2 (towards +x)
+    const Camera3 down = makeCamera({0, 0, 0}, {0, -1, 0}, 90, culler_test::kInf, double(kWidth) / kHeight);
+    const ItemBufferImage img = itemBuffer(s.renderer, down, kWidth, kHeight);
+    CHECK(img.visible == std::vector<ObjectId>{1, 2});
+    // Box 1 (at -z) is above the image's centre (top row first), box 2 (at +x) right of it.
+    CHECK(img.idAt(kWidth / 2, kHeight / 2 - kHeight / 4) == std::optional<ObjectId>(1));
+    CHECK(img.idAt(kWidth / 2 + kWidth / 4, kHeight / 2) == std::optional<ObjectId>(2));
+}

@@ -13,8 +13,7 @@ ViewFrustum::ViewFrustum(const Camera3& camera, const GridGeometry3& grid) {
     for (int a = 0; a < 3; ++a) magnitude = std::max(magnitude, std::abs(camera.position[a]));
     m_slack = grid.conversionSlack(magnitude);
     m_forward = safeNormalize<3>(camera.direction);
-    const bool upGiven = camera.up.x != 0 || camera.up.y != 0 || camera.up.z != 0;
-    const Vec3 up = upGiven ? safeNormalize<3>(camera.up) : Vec3{0, 1, 0};
+    const Vec3 up = cameraUp(camera);
     Vec3 right = glm::cross(m_forward, up);
     const double rightLen = std::sqrt(lengthSquared<3>(right));
     if (!(rightLen > 1e-12)) throw InvalidInput("camera.up", "must not be parallel to camera.direction");

@@ -90,8 +90,7 @@ struct Frustum {
         f = normalized(c.direction);
         // As the library reads it (ViewFrustum): any non-zero up counts, however tiny; scaled before use, so
         // that a denormal up is not squared to zero (fuzz_culler3d found up = (-5e-324, 0, 0) read as "no up").
-        const bool upGiven = c.up.x != 0 || c.up.y != 0 || c.up.z != 0;
-        Vec3 up = upGiven ? safeNormalize<3>(c.up) : Vec3{0.0, 1.0, 0.0};
+        Vec3 up = cameraUp(c); // the default up falls back for cameras looking straight up or down
         Vec3 side = glm::cross(f, up);
         if (!(lengthSquared<3>(side) > 0)) // up parallel to direction: invalid camera; any frame will do
             side = glm::cross(f, std::abs(f.x) < 0.9 ? Vec3{1.0, 0.0, 0.0} : Vec3{0.0, 0.0, 1.0});

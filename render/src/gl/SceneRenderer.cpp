@@ -487,9 +487,8 @@ void SceneRenderer::setCamera(const Camera3& camera, double nearPlane) {
     validateCamera<3>(camera);
     if (!(nearPlane >= 0) || !std::isfinite(nearPlane)) throw InvalidInput("nearPlane", "must be finite and >= 0");
     const double near = nearPlane > 0 ? nearPlane : m_options.nearPlane;
-    const bool upGiven = camera.up.x != 0 || camera.up.y != 0 || camera.up.z != 0;
     const glm::dvec3 forward = glm::normalize(camera.direction);
-    const glm::dvec3 up = upGiven ? glm::normalize(camera.up) : glm::dvec3(0, 1, 0);
+    const glm::dvec3 up = cameraUp(camera); // the culler's frustum reads the same up
     if (!(glm::length(glm::cross(forward, up)) > 1e-12)) throw InvalidInput("camera.up", "must not be parallel to camera.direction");
     m_camera = camera;
     // The view rotation only (the eye is subtracted in the vertex shader); glm::lookAt's right = forward x

@@ -19,12 +19,25 @@ template <int D> struct Camera {
     Vec<D> direction{0.0}; ///< Any non-zero length.
     double fovDeg = 90;    ///< [Degrees] 2D: (0, 360]. 3D: vertical, (0, 180).
     double far = std::numeric_limits<double>::infinity(); ///< [World units] > 0; infinity = no limit.
-    Vec<D> up{0.0};        ///< 3D only; zero means the default (0, 1, 0).
+    Vec<D> up{0.0};        ///< 3D only; zero means the default (0, 1, 0), or (0, 0, -+1) looking straight down or up (cameraUp).
     double aspect = 1;     ///< 3D only; width / height, > 0.
 };
 
 using Camera2 = Camera<2>;
 using Camera3 = Camera<3>;
+
+/// The up vector every part of rgvc reads from a 3D camera (the grid's frustum, the references, the GL
+/// renderer): `up` normalized when it is given (non-zero); else (0, 1, 0), except for a camera looking
+/// straight up or down, where (0, 1, 0) spans no image plane with the direction: then (0, 0, -1) looking
+/// down and (0, 0, 1) looking up, so a top view has +x to the right and -z at the top of the image.
+/// "Straight" is within 1e-9 of the y axis, far above the 1e-12 at which a frame is refused, so that a
+/// direction just off the axis keeps the default and still has a well-defined frame.
+inline Vec3 cameraUp(const Camera3& c) {
+    if (c.up.x != 0 || c.up.y != 0 || c.up.z != 0) return safeNormalize<3>(c.up);
+    const Vec3 f = safeNormalize<3>(c.direction);
+    if (std::sqrt(f.x * f.x + f.z * f.z) > 1e-9) return {0.0, 1.0, 0.0}; // |f x (0, 1, 0)|
+    return {0.0, 0.0, f.y < 0 ? -1.0 : 1.0};
+}
 
 /// @throws InvalidInput ("camera.position", "camera.direction", "camera.fov_deg", "camera.far", ...).
 template <int D> inline void validateCamera(const Camera<D>& c, const std::string& field = "camera") {
