@@ -16,6 +16,7 @@
 // must be 0). The grid culler gets each ball's occluder inset to the drawn mesh (GlStage.hpp's reason).
 //
 //   rgvc_bench_gl [--frames N] [--size WxH] [--grid 100|50] [--static S] [--csv FILE] [--quick]
+//                 [--methods zb,vfc,rgvc,rgvc+chc,chc,sw,ideal]   (default: all, in that order)
 #include "BenchSupport.hpp"
 
 #include "RandomScenes3D.hpp"
@@ -48,6 +49,7 @@ namespace {
 struct Config {
     int frames = 150, width = 640, height = 480, gridRes = 100, statics = 4800, spheres = 5000;
     std::string csv;
+    std::string methods = "zb,vfc,rgvc,rgvc+chc,chc,sw,ideal"; // --methods: a comma-separated subset
 };
 
 struct Method {
@@ -64,7 +66,7 @@ struct Method {
 
 [[noreturn]] void usage(const char* why) {
     std::fprintf(stderr, "rgvc_bench_gl: %s\nusage: rgvc_bench_gl [--frames N] [--size WxH] [--grid 100|50] "
-                         "[--static S] [--csv FILE] [--quick]\n", why);
+                         "[--static S] [--csv FILE] [--quick] [--methods zb,vfc,rgvc,rgvc+chc,chc,sw,ideal]\n", why);
     std::exit(2);
 }
 
@@ -83,6 +85,7 @@ Config parse(int argc, char** argv) {
         } else if (a == "--grid") c.gridRes = std::atoi(next().c_str());
         else if (a == "--static") c.statics = std::atoi(next().c_str());
         else if (a == "--csv") c.csv = next();
+        else if (a == "--methods") c.methods = next();
         else if (a == "--quick") {
             c.frames = 4;
             c.width = 160;
@@ -129,13 +132,26 @@ int main(int argc, char** argv) {
                                  IVec3{cfg.gridRes, cfg.gridRes * 6 / 10, cfg.gridRes});
 
         std::vector<Method> methods;
-        methods.push_back({"zb", CullMethod::Zb, false, false, {}, {}, {}, {}, {}, {}, {}, 0});
-        methods.push_back({"vfc", CullMethod::Vfc, false, false, {}, {}, {}, {}, {}, {}, {}, 0});
-        methods.push_back({"rgvc", CullMethod::Zb, true, false, {}, {}, {}, {}, {}, {}, {}, 0});
-        methods.push_back({"rgvc+chc", CullMethod::ChcPlusPlus, true, false, {}, {}, {}, {}, {}, {}, {}, 0});
-        methods.push_back({"chc", CullMethod::ChcPlusPlus, false, false, {}, {}, {}, {}, {}, {}, {}, 0});
-        methods.push_back({"sw", CullMethod::StopAndWait, false, false, {}, {}, {}, {}, {}, {}, {}, 0});
-        methods.push_back({"ideal", CullMethod::Ideal, false, true, {}, {}, {}, {}, {}, {}, {}, 0});
+        {
+            // The combinations, chosen by --methods (each name once, in the order given).
+            std::string list = cfg.methods + ",";
+            for (std::size_t start = 0, comma; (comma = list.find(',', start)) != std::string::npos; start = comma + 1) {
+                const std::string name = list.substr(start, comma - start);
+                bool dup = false;
+                for (const Method& m : methods) dup = dup || name == m.name;
+                if (name.empty() || dup) continue;
+                if (name == "zb") methods.push_back({"zb", CullMethod::Zb, false, false, {}, {}, {}, {}, {}, {}, {}, 0});
+                else if (name == "vfc") methods.push_back({"vfc", CullMethod::Vfc, false, false, {}, {}, {}, {}, {}, {}, {}, 0});
+                else if (name == "rgvc") methods.push_back({"rgvc", CullMethod::Zb, true, false, {}, {}, {}, {}, {}, {}, {}, 0});
+                else if (name == "rgvc+chc")
+                    methods.push_back({"rgvc+chc", CullMethod::ChcPlusPlus, true, false, {}, {}, {}, {}, {}, {}, {}, 0});
+                else if (name == "chc") methods.push_back({"chc", CullMethod::ChcPlusPlus, false, false, {}, {}, {}, {}, {}, {}, {}, 0});
+                else if (name == "sw") methods.push_back({"sw", CullMethod::StopAndWait, false, false, {}, {}, {}, {}, {}, {}, {}, 0});
+                else if (name == "ideal") methods.push_back({"ideal", CullMethod::Ideal, false, true, {}, {}, {}, {}, {}, {}, {}, 0});
+                else usage(("--methods: unknown method '" + name + "'").c_str());
+            }
+            if (methods.empty()) usage("--methods: no method given");
+        }
         for (Method& m : methods) {
             m.chc = std::make_unique<ChcRenderer>(device, bvh, ChcOptions{.queryMinCandidates = 32});
             if (m.grid) {
@@ -201,14 +217,16 @@ int main(int argc, char** argv) {
         }
         if (tty) std::printf("\n");
 
-        double zb = median(methods[0].ms);
+        double zb = 0; // the "x ZB" column needs ZB in the run
+        for (const Method& m : methods)
+            if (std::strcmp(m.name, "zb") == 0) zb = median(m.ms);
         double visible = mean(visibleCounts);
         std::printf("\n| method | median frame ms | p95 ms | x ZB | grid cull ms | queries/frame | drawn/frame | "
                     "drawn / visible | misses |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|\n");
         for (const Method& m : methods) {
             const double med = median(m.ms);
             std::printf("| %s | %.2f | %.2f | %.1f | %.3f | %.1f | %.1f | %.2f | %llu |\n", m.name, med,
-                        percentile(m.ms, 0.95), zb / med, median(m.cullMs), mean(m.queries), mean(m.drawn),
+                        percentile(m.ms, 0.95), zb > 0 ? zb / med : 0.0, median(m.cullMs), mean(m.queries), mean(m.drawn),
                         visible > 0 ? mean(m.drawn) / visible : 0.0, (unsigned long long)m.misses);
         }
         std::printf("mean |visible| (item buffer at %dx%d): %.1f\n", cfg.width, cfg.height, visible);
