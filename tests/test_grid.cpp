@@ -2,6 +2,7 @@
 // dense VoxelStorage, checked against brute force. Tag: [grid].
 #include "rgvc/grid/GridGeometry.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
+#include "rgvc/grid/VoxelSize.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -428,4 +429,45 @@ TEST_CASE("DenseStorage opaque counts, frame stamps and id lists", "[grid]") {
         CHECK(s.idCount() == 0);
         for (VoxelKey key = 0; key < g.voxelCount(); ++key) CHECK_FALSE(s.hasIds(key));
     }
+}
+
+TEST_CASE("recommendVoxelSize: the surface-weighted median of the objects' opaque sizes, within the limits", "[grid]") {
+    const Box<3> world{{0, 0, 0}, {128, 64, 128}};
+    // Boxes only: a box of smallest extent e is opaque down to e / 2.
+    const std::vector<Shape<3>> walls = {Box<3>{{0, 0, 0}, {40, 20, 2}}, Box<3>{{50, 0, 0}, {90, 20, 2}}};
+    CHECK(recommendVoxelSize<3>(walls, world) == Approx(1.0));
+    // Big buildings and many small spheres: the buildings' surface outweighs the spheres'.
+    std::vector<Shape<3>> city;
+    for (int b = 0; b < 20; ++b) city.push_back(Box<3>{{6.0 * b, 0, 0}, {6.0 * b + 4, 30, 8}});
+    for (int s = 0; s < 2000; ++s) city.push_back(Ball<3>{{1.0 + s % 120, 40, 1.0 + s / 20}, 0.3});
+    CHECK(recommendVoxelSize<3>(city, world) == Approx(2.0)); // the buildings' 4-unit side / 2
+    // Spheres alone: radius / sqrt(3).
+    const std::vector<Shape<3>> balls(10, Ball<3>{{10, 10, 10}, std::sqrt(3.0)});
+    CHECK(recommendVoxelSize<3>(balls, world) == Approx(1.0));
+    // The limits: a voxel budget (tiny objects in a big world) and a minimum of voxels per axis (one huge wall).
+    const std::vector<Shape<3>> dust(5, Ball<3>{{10, 10, 10}, 1e-3});
+    const double budget = std::cbrt(128.0 * 64 * 128 / (16.0 * 1024 * 1024));
+    CHECK(recommendVoxelSize<3>(dust, world) == Approx(budget));
+    const std::vector<Shape<3>> slab = {Box<3>{{0, 0, 0}, {128, 60, 128}}};
+    CHECK(recommendVoxelSize<3>(slab, world) == Approx(64.0 / 8));
+    CHECK(recommendVoxelSize<3>(std::vector<Shape<3>>{}, world) == Approx(8.0));
+    // 2D: perimeter weights, the same rule.
+    const std::vector<Shape<2>> flat = {Box<2>{{0, 0}, {30, 3}}, ConvexPolygon{{{40, 40}, {50, 40}, {45, 50}}}};
+    const double v2 = recommendVoxelSize<2>(flat, Box<2>{{0, 0}, {256, 256}});
+    CHECK(v2 > 1.4);
+    CHECK(v2 <= 5.0);
+    // Bad input names its field.
+    auto field = [](auto f) {
+        try {
+            f();
+        } catch (const InvalidInput& e) {
+            return e.field();
+        }
+        return std::string("<accepted>");
+    };
+    CHECK(field([&] { recommendVoxelSize<3>(walls, Box<3>{{0, 0, 0}, {0, 1, 1}}); }) == "world");
+    CHECK(field([&] { recommendVoxelSize<3>(walls, Box<3>{{0, 0, 0}, {INFINITY, 1, 1}}); }) == "world");
+    CHECK(field([&] { recommendVoxelSize<3>(std::vector<Shape<3>>{Ball<3>{{0, 0, 0}, -1}}, world); }) == "shapes[0].radius");
+    CHECK(field([&] { recommendVoxelSize<3>(walls, world, {.maxVoxels = 0}); }) == "options.maxVoxels");
+    CHECK(field([&] { recommendVoxelSize<3>(walls, world, {.minVoxelsPerAxis = NAN}); }) == "options.minVoxelsPerAxis");
 }

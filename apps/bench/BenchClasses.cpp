@@ -27,12 +27,14 @@
 //
 //   rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] [--no-reference] [--quick]
 //                      [--variant NAME]   (only that variant: new, img128, old, vfc, default; for profiling)
+//                      [--voxel-size V]   (every scene's grid re-made with voxels of V world units)
 //
 // --quick: 3 measured frames after 1 warm-up, every frame checked, small object counts, room-1k only
 // among the rooms and a 256^3 empty grid (a smoke test: a few seconds). Output: a header (machine,
 // scenes), one markdown table on stdout, then the reference notes per scene; a progress line on stderr
 // when it is a terminal. Exit 0, 1 on any miss (or error), 2 on a bad flag.
 #include "rgvc/dynamics/Culler.hpp"
+#include "rgvc/grid/VoxelSize.hpp"
 
 #include "BenchSupport.hpp"
 
@@ -521,6 +523,7 @@ struct Config {
     bool noReference = false;                  // --no-reference: timing only (profiling), no accuracy columns
     bool quick = false;
     std::string variant; // --variant NAME: only this one (profiling); empty: all
+    double voxelSize = 0; // --voxel-size V: every scene's grid re-made with voxels of V world units (0: the scene's)
 };
 
 struct Row {
@@ -634,6 +637,21 @@ template <int D> std::vector<Variant<D>> variantsFor() {
 }
 
 template <int D> void runScene(World<D>& w, const Config& cfg) {
+    {
+        // recommendVoxelSize over the scene's frame-0 shapes, printed beside the size the run uses.
+        std::vector<Shape<D>> shapes;
+        shapes.reserve(w.objects.size());
+        for (const ObjectDesc<D>& o : w.objects) shapes.push_back(o.shape);
+        Box<D> world{w.grid.origin(), w.grid.origin()};
+        for (int a = 0; a < D; ++a) world.max[a] += w.grid.voxelSize() * w.grid.resolution()[a];
+        const double recommended = recommendVoxelSize<D>(shapes, world);
+        if (cfg.voxelSize > 0) {
+            IVec<D> res;
+            for (int a = 0; a < D; ++a) res[a] = int(std::ceil((world.max[a] - world.min[a]) / cfg.voxelSize - 1e-9));
+            w.grid = GridGeometry<D>(w.grid.origin(), cfg.voxelSize, res);
+        }
+        std::printf("- %s: voxel size %g (recommendVoxelSize: %.3g)\n", w.name.c_str(), w.grid.voxelSize(), recommended);
+    }
     std::vector<Variant<D>> variants = variantsFor<D>();
     if (!cfg.variant.empty()) {
         std::erase_if(variants, [&](const Variant<D>& v) { return cfg.variant != v.name; });
@@ -802,9 +820,13 @@ int main(int argc, char** argv) {
         else if (a == "--no-reference") cfg.noReference = true;
         else if (a == "--quick") cfg.quick = true;
         else if (a == "--variant") cfg.variant = value();
+        else if (a == "--voxel-size") {
+            cfg.voxelSize = std::atof(value());
+            if (!(cfg.voxelSize > 0) || !std::isfinite(cfg.voxelSize)) usageError("--voxel-size needs a positive number");
+        }
         else if (a == "--help" || a == "-h") {
             std::printf("usage: rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] "
-                        "[--no-reference] [--quick] [--variant NAME]\nscenes:");
+                        "[--no-reference] [--quick] [--variant NAME] [--voxel-size V]\nscenes:");
             for (const char* s : kScenes)
                 std::printf(" %s", s);
             std::printf("\n");

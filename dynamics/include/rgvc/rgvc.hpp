@@ -46,3 +46,4 @@
 #include "rgvc/grid/Error.hpp"
 #include "rgvc/grid/GridGeometry.hpp"
 #include "rgvc/grid/Shapes.hpp"
+#include "rgvc/grid/VoxelSize.hpp"
