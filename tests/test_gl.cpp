@@ -110,6 +110,21 @@ void pinLoadedLibraries() {
     for (const std::string& n : names) (void)dlopen(n.c_str(), RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE);
 }
 
+/// Pixels whose item changed between two images, and of those the ones where neither image shows `moved`
+/// (a move must change the image only where the moved object was or is).
+struct PixelChanges {
+    int changed = 0, elsewhere = 0;
+};
+PixelChanges pixelChanges(const ItemBufferImage& before, const ItemBufferImage& after, std::uint32_t moved) {
+    PixelChanges c;
+    for (std::size_t i = 0; i < after.items.size(); ++i) {
+        if (after.items[i] == before.items[i]) continue;
+        ++c.changed;
+        c.elsewhere += after.items[i] != moved && before.items[i] != moved;
+    }
+    return c;
+}
+
 std::string idList(const std::vector<ObjectId>& ids) {
     std::ostringstream os;
     for (ObjectId id : ids) os << id << " ";
@@ -347,15 +362,9 @@ TEST_CASE("Instanced drawing: moving one object uploads one instance and changes
     const ItemBufferImage after = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
     CHECK(s.renderer.stats().instancesUploaded == 7);
     CHECK(s.renderer.stats().uploadCalls == afterFirst.uploadCalls + 1);
-    const std::uint32_t moved = s.renderer.itemOf(3);
-    int changed = 0, elsewhere = 0;
-    for (std::size_t i = 0; i < after.items.size(); ++i) {
-        if (after.items[i] == before.items[i]) continue;
-        ++changed;
-        elsewhere += after.items[i] != moved && before.items[i] != moved;
-    }
-    CHECK(changed > 20);
-    CHECK(elsewhere == 0);
+    const PixelChanges c = pixelChanges(before, after, s.renderer.itemOf(3));
+    CHECK(c.changed > 20);
+    CHECK(c.elsewhere == 0);
 
     // Removing and adding reuses the slot; a subset draw uploads nothing new.
     s.renderer.removeObject(2);
@@ -535,15 +544,9 @@ TEST_CASE("Prisms: moving one uploads that object's data only, and bad input thr
     ItemBufferImage after = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
     CHECK(s.renderer.stats().instancesUploaded == 5);
     CHECK(s.renderer.stats().uploadCalls == first.uploadCalls + 1);
-    const std::uint32_t moved = s.renderer.itemOf(2);
-    int changed = 0, elsewhere = 0;
-    for (std::size_t i = 0; i < after.items.size(); ++i) {
-        if (after.items[i] == before.items[i]) continue;
-        ++changed;
-        elsewhere += after.items[i] != moved && before.items[i] != moved;
-    }
-    CHECK(changed > 20);
-    CHECK(elsewhere == 0);
+    const PixelChanges c = pixelChanges(before, after, s.renderer.itemOf(2));
+    CHECK(c.changed > 20);
+    CHECK(c.elsewhere == 0);
 
     // The polygon translated: its instance only, not its mesh.
     s.renderer.setPrism(3, translated(quad, Vec2(-1, 0)), -1, 1);

@@ -244,8 +244,8 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
     // nearer than it, neither test below can succeed (both need that pixel below `nearest`, which is at
     // most the centre's distance). O(1) for the visible objects, which are most of what is tested.
     {
-        const Vec3 c = std::visit([](const auto& s) { return 0.5 * (boundsOf<3>(s).min + boundsOf<3>(s).max); }, shape);
-        if (!canHide(c - m_apex)) return false;
+        const Box<3> b = boundsOf<3>(shape);
+        if (!canHide(0.5 * (b.min + b.max) - m_apex)) return false;
     }
     Footprint f;
     bool inView;
@@ -281,9 +281,8 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
     // Sound: the parts cover the shape, and each part's test is the same conservative test. Cheap where
     // it cannot succeed: a point of the box in view whose pixel is not covered nearer than that point
     // belongs to some part at every level, and that part's test would fail on that pixel; the box's
-    // centre is checked first.
+    // centre was checked first (above).
     const Vec3 centre = 0.5 * (lo + hi);
-    if (!canHide(centre)) return false;
     const auto* ball = std::get_if<Ball<3>>(&shape);
     if (!hiddenParts(lo, hi, 2, ball != nullptr ? &centre : nullptr, ball != nullptr ? ball->radius + grow : 0.0)) return false;
     ++m_stats.hidden;

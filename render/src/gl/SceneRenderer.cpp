@@ -183,33 +183,38 @@ void SceneRenderer::init() {
     gl.GenBuffers(1, &m_polyVbo);
     gl.GenBuffers(1, &m_polyIbo);
 
+    // The attributes the object VAOs share: positions per vertex from `vbo`, the slot per instance from
+    // the draw list ring (recorded in the bound VAO).
+    auto positionAttribute = [&](GLuint vbo) {
+        gl.BindBuffer(GL_ARRAY_BUFFER, vbo);
+        gl.EnableVertexAttribArray(kPosition);
+        gl.VertexAttribPointer(kPosition, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+    };
+    auto slotAttribute = [&] {
+        gl.BindBuffer(GL_ARRAY_BUFFER, m_listRing.buffer);
+        gl.EnableVertexAttribArray(kSlot);
+        gl.VertexAttribIPointer(kSlot, 1, GL_UNSIGNED_INT, sizeof(std::uint32_t), nullptr);
+        gl.VertexAttribDivisor(kSlot, 1);
+    };
+
     // Objects: mesh positions per vertex, the slot per instance (from the draw list ring).
     gl.GenVertexArrays(1, &m_objectVao);
     gl.BindVertexArray(m_objectVao);
     gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_meshIbo); // recorded in the VAO
     gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(std::uint32_t)), indices.data(), GL_STATIC_DRAW);
-    gl.BindBuffer(GL_ARRAY_BUFFER, m_meshVbo);
-    gl.EnableVertexAttribArray(kPosition);
-    gl.VertexAttribPointer(kPosition, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+    positionAttribute(m_meshVbo);
     m_listRing.capacity = 1 << 20;
     gl.BindBuffer(GL_ARRAY_BUFFER, m_listRing.buffer);
     gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_listRing.capacity), nullptr, GL_STREAM_DRAW);
-    gl.EnableVertexAttribArray(kSlot);
-    gl.VertexAttribIPointer(kSlot, 1, GL_UNSIGNED_INT, sizeof(std::uint32_t), nullptr);
-    gl.VertexAttribDivisor(kSlot, 1);
+    slotAttribute();
 
     // Polygon prisms: their own mesh buffers, the same slot attribute (one instance per draw command,
     // its base instance pointing into the draw list).
     gl.GenVertexArrays(1, &m_polyVao);
     gl.BindVertexArray(m_polyVao);
     gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_polyIbo);
-    gl.BindBuffer(GL_ARRAY_BUFFER, m_polyVbo);
-    gl.EnableVertexAttribArray(kPosition);
-    gl.VertexAttribPointer(kPosition, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
-    gl.BindBuffer(GL_ARRAY_BUFFER, m_listRing.buffer);
-    gl.EnableVertexAttribArray(kSlot);
-    gl.VertexAttribIPointer(kSlot, 1, GL_UNSIGNED_INT, sizeof(std::uint32_t), nullptr);
-    gl.VertexAttribDivisor(kSlot, 1);
+    positionAttribute(m_polyVbo);
+    slotAttribute();
     m_commandRing.capacity = 1 << 16;
     gl.BindBuffer(GL_ARRAY_BUFFER, m_commandRing.buffer);
     gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_commandRing.capacity), nullptr, GL_STREAM_DRAW);
@@ -218,9 +223,7 @@ void SceneRenderer::init() {
     gl.GenVertexArrays(1, &m_boxVao);
     gl.BindVertexArray(m_boxVao);
     gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_meshIbo);
-    gl.BindBuffer(GL_ARRAY_BUFFER, m_meshVbo);
-    gl.EnableVertexAttribArray(kPosition);
-    gl.VertexAttribPointer(kPosition, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+    positionAttribute(m_meshVbo);
     m_boxRing.capacity = 1 << 20;
     gl.BindBuffer(GL_ARRAY_BUFFER, m_boxRing.buffer);
     gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_boxRing.capacity), nullptr, GL_STREAM_DRAW);
