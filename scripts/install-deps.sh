@@ -17,6 +17,9 @@ packages=(
   libtbb-dev                      # OpenVDB's threading; parallel benchmarks
   nlohmann-json3-dev              # scene files
   libpng-dev                      # pictures
+  libimgui-dev                    # the 2D simulator's panel (Dear ImGui; GLFW + OpenGL3 backends)
+  gnuplot-nox                     # the benchmarks' PNG plots, drawn from their CSV
+  libtinyobjloader-dev libtinygltf-dev  # mesh loading (OBJ, glTF 2.0)
 )
 
 missing=()
