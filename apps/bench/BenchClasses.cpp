@@ -36,6 +36,7 @@
 #include "rgvc/dynamics/Culler.hpp"
 #include "rgvc/grid/VoxelSize.hpp"
 
+#include "BenchReference.hpp"
 #include "BenchSupport.hpp"
 
 #include "ExactVisibility2D.hpp"
@@ -538,86 +539,6 @@ std::vector<Row> g_rows;
 std::vector<std::string> g_notes;
 std::uint64_t g_totalMisses = 0;
 const bool g_progress = isatty(fileno(stderr)) != 0;
-
-bool cameraInside(const Shape<2>& s, const Vec2& p) {
-    return std::visit(
-        [&](const auto& x) {
-            using T = std::decay_t<decltype(x)>;
-            if constexpr (std::is_same_v<T, Ball<2>>) return lengthSquared<2>(p - x.center) < x.radius * x.radius;
-            else if constexpr (std::is_same_v<T, Box<2>>)
-                return p.x > x.min.x && p.x < x.max.x && p.y > x.min.y && p.y < x.max.y;
-            else {
-                bool pos = true, neg = true;
-                for (std::size_t i = 0; i < x.points.size(); ++i) {
-                    const Vec2 a = x.points[i], b = x.points[(i + 1) % x.points.size()];
-                    const double c = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
-                    pos = pos && c > 0;
-                    neg = neg && c < 0;
-                }
-                return pos || neg;
-            }
-        },
-        s);
-}
-
-/// The reference's answer for all objects, computed on those touching the view region (see the top).
-struct Reference {
-    std::vector<bool> visible;
-    std::size_t count = 0;
-    bool cameraInsideObject = false;
-};
-
-Reference referenceOf(const std::vector<ObjectDesc<3>>& objects, const Camera3& cam) {
-    const std::vector<Shape<3>> shapes = ref::shapesOf(objects);
-    const std::vector<bool> inView = ref::inViewRegion3D(shapes, cam);
-    std::vector<Shape<3>> sub;
-    std::vector<std::size_t> index;
-    for (std::size_t i = 0; i < shapes.size(); ++i)
-        if (inView[i]) {
-            sub.push_back(shapes[i]);
-            index.push_back(i);
-        }
-    ref::Visibility3DOptions opt;
-    opt.gridDivisions = 128;
-    opt.targetDivisions = 8;
-    opt.eps = ref::sceneEpsilon3D(shapes, cam);
-    ref::Visibility3DStats st;
-    const std::vector<bool> vis = ref::visible3D(sub, cam, opt, &st);
-    Reference r;
-    r.visible.assign(shapes.size(), false);
-    for (std::size_t k = 0; k < sub.size(); ++k) {
-        r.visible[index[k]] = vis[k];
-        r.count += vis[k];
-        r.cameraInsideObject = r.cameraInsideObject || st.seen[k] == ref::Seen3D::ContainsCamera;
-    }
-    return r;
-}
-
-Reference referenceOf(const std::vector<ObjectDesc<2>>& objects, const Camera2& cam) {
-    const std::vector<Shape<2>> shapes = ref::shapesOf(objects);
-    Reference r;
-    r.visible.assign(shapes.size(), false);
-    ref::ExactOptions opt;
-    opt.eps = ref::sceneEpsilon(shapes, cam);
-    // The wedge is convex for fov <= 180 only; wider views get every object.
-    const std::vector<bool> inView =
-        cam.fovDeg <= 180 ? ref::inViewRegion2D(shapes, cam) : std::vector<bool>(shapes.size(), true);
-    std::vector<Shape<2>> sub;
-    std::vector<std::size_t> index;
-    for (std::size_t i = 0; i < shapes.size(); ++i)
-        if (inView[i]) {
-            sub.push_back(shapes[i]);
-            index.push_back(i);
-        }
-    const std::vector<bool> vis = ref::exactVisible2D(sub, cam, opt);
-    for (std::size_t k = 0; k < sub.size(); ++k) {
-        r.visible[index[k]] = vis[k];
-        r.count += vis[k];
-    }
-    for (const Shape<2>& s : shapes)
-        r.cameraInsideObject = r.cameraInsideObject || cameraInside(s, cam.position);
-    return r;
-}
 
 template <int D> std::string gridText(const GridGeometry<D>& g) {
     std::string s = std::to_string(g.resolution()[0]);
