@@ -5,6 +5,7 @@
 // Every test makes its own small OSMesa context (ctest runs each case in its own process). Resolutions
 // stay small (llvmpipe rasterizes on the CPU): 128 x 96 unless a case needs otherwise.
 #include "CullerTestSupport.hpp"
+#include "GlTestSupport.hpp"
 #include "rgvc/render/Chc.hpp"
 #include "rgvc/render/ObjectBvh.hpp"
 
@@ -18,9 +19,6 @@
 #include <catch2/catch.hpp>
 #include <glm/geometric.hpp>
 
-#include <dlfcn.h>
-#include <link.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -33,6 +31,7 @@
 
 using namespace rgvc;
 using rgvc::culler_test::makeCamera;
+using rgvc::gl_test::pinLoadedLibraries;
 
 namespace {
 
@@ -94,21 +93,6 @@ struct Scene {
         for (std::size_t i = 0; i < shapes.size(); ++i) renderer.setObject(ObjectId(i + 1), shapes[i]);
     }
 };
-
-/// Keeps every library loaded now mapped until exit (RTLD_NODELETE). Closing the display unloads Mesa's
-/// DRI driver (swrast_dri.so) and glfwTerminate the X extension libraries, while allocations of theirs
-/// live on; LeakSanitizer then reports them from an "<unknown module>" that tests/lsan.supp cannot name.
-/// Pinned, they stay mapped and their allocations are suppressed by library, as everywhere else.
-void pinLoadedLibraries() {
-    std::vector<std::string> names;
-    dl_iterate_phdr(
-        [](dl_phdr_info* info, std::size_t, void* out) {
-            if (info->dlpi_name && info->dlpi_name[0]) static_cast<std::vector<std::string>*>(out)->push_back(info->dlpi_name);
-            return 0;
-        },
-        &names);
-    for (const std::string& n : names) (void)dlopen(n.c_str(), RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE);
-}
 
 /// Pixels whose item changed between two images, and of those the ones where neither image shows `moved`
 /// (a move must change the image only where the moved object was or is).

@@ -1,4 +1,5 @@
 #include "GlProgram.hpp"
+#include "rgvc/render/gl/GlProgram.hpp"
 
 #include "rgvc/render/gl/GlError.hpp"
 
@@ -60,3 +61,12 @@ GLuint linkProgram(const GlFunctions& gl, const char* what, const std::string& v
 }
 
 } // namespace rgvc::gl_detail
+
+namespace rgvc {
+
+GLuint linkGlProgram(const GlFunctions& gl, const char* what, const std::string& vertex, const std::string& fragment,
+                     const std::string& defines) {
+    return gl_detail::linkProgram(gl, what, vertex, fragment, defines);
+}
+
+} // namespace rgvc

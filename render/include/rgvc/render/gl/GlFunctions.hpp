@@ -102,7 +102,20 @@ namespace rgvc {
     X(PFNGLBEGINQUERYPROC, BeginQuery)                                                                       \
     X(PFNGLENDQUERYPROC, EndQuery)                                                                           \
     X(PFNGLGETQUERYOBJECTUIVPROC, GetQueryObjectuiv)                                                         \
-    X(PFNGLGETQUERYOBJECTUI64VPROC, GetQueryObjectui64v)
+    X(PFNGLGETQUERYOBJECTUI64VPROC, GetQueryObjectui64v)                                                     \
+    /* Textures, blending and scissoring: the 2D simulator's draw-list renderer (apps/sim2d). */             \
+    X(PFNGLGENTEXTURESPROC, GenTextures)                                                                     \
+    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                                               \
+    X(PFNGLBINDTEXTUREPROC, BindTexture)                                                                     \
+    X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                                                 \
+    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                                                       \
+    X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                                                                 \
+    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                                                 \
+    X(PFNGLBLENDEQUATIONPROC, BlendEquation)                                                                 \
+    X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)                                                         \
+    X(PFNGLSCISSORPROC, Scissor)                                                                             \
+    X(PFNGLUNIFORM1IPROC, Uniform1i)                                                                         \
+    X(PFNGLDRAWELEMENTSBASEVERTEXPROC, DrawElementsBaseVertex)
 
 /// GL entry points of one context. Members are named after the GL function without its "gl" prefix.
 /// [Limit] valid only while the context that loaded them exists, and called only while it is current.
