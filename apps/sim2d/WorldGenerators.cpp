@@ -166,7 +166,7 @@ GeneratorSpec parseGeneratorSpec(const std::string& text) {
 SimWorld generateWorld(const GeneratorSpec& spec, std::uint64_t seed) {
     Random r(seed);
     std::vector<SimObject> objects;
-    Camera2 camera{.position = {32.5, 128.5}, .direction = {1, 0.15}, .fovDeg = 70};
+    Camera2 camera{.position = {32.5, 128.5}, .direction = {1, 0}, .fovDeg = 70}; // down the middle street
     if (spec.kind == "city") {
         addCity(objects, r);
     } else if (spec.kind == "maze") {
