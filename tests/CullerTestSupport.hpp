@@ -295,8 +295,14 @@ template <int D> bool shiftedForReference(const Vec<D>& shift, std::vector<Shape
                 using T = std::decay_t<decltype(x)>;
                 if constexpr (std::is_same_v<T, Ball<D>>) move(x.center);
                 else if constexpr (std::is_same_v<T, Box<D>>) move(x.min), move(x.max);
-                else
+                else if constexpr (std::is_same_v<T, ConvexPolygon>)
                     for (Vec<D>& q : x.points) move(q);
+                else if constexpr (D == 3 && std::is_same_v<T, ConvexPolytope>) {
+                    // Vertices and bounds move exactly; plane offsets would round: never exact.
+                    exact = false;
+                    x = translatedPolytope(x, -shift);
+                } else
+                    static_assert(kUnhandledShape<T>);
             },
             s);
     move(cam.position);

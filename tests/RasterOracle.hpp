@@ -85,10 +85,15 @@ inline std::string describe(const Shape<3>& s) {
     if (auto* b = std::get_if<Ball<3>>(&s)) {
         o << "Ball3{center=(" << b->center.x << ", " << b->center.y << ", " << b->center.z
           << "), radius=" << b->radius << "}";
+    } else if (auto* x = std::get_if<Box<3>>(&s)) {
+        o << "Box3{min=(" << x->min.x << ", " << x->min.y << ", " << x->min.z << "), max=(" << x->max.x << ", "
+          << x->max.y << ", " << x->max.z << ")}";
     } else {
-        const auto& x = std::get<Box<3>>(s);
-        o << "Box3{min=(" << x.min.x << ", " << x.min.y << ", " << x.min.z << "), max=(" << x.max.x << ", "
-          << x.max.y << ", " << x.max.z << ")}";
+        const auto& p = std::get<ConvexPolytope>(s);
+        o << "ConvexPolytope{points=[";
+        for (std::size_t i = 0; i < p.vertices.size(); ++i)
+            o << (i ? ", " : "") << "[" << p.vertices[i].x << ", " << p.vertices[i].y << ", " << p.vertices[i].z << "]";
+        o << "], planes=" << p.planes.size() << ", tolerance=" << p.tolerance << "}";
     }
     return o.str();
 }
@@ -686,6 +691,198 @@ inline std::string checkShape3(const Shape<3>& s, IVec3 res, Stats& st) {
                     st.sampleChecks += 125;
                 }
             }
+    return "";
+}
+
+// ---------------------------------------------------------------------------------------------------
+// 3D oracle: convex polytopes (hulls, oriented boxes), from their points alone and independently of the
+// library's hull: the facets are found by brute force over every triple of points (a plane through three
+// of them with every point on one side is a supporting plane; together they cut out the hull), in long
+// double.
+//   sd(p)        max over facets of n.p - c (<= 0 iff inside);
+//   innerMargin  min over the voxel's 8 corners of -sd (convexity: the corners decide);
+//   touchDist    a lower bound of the voxel-polytope distance by the separating-axis theorem: the largest
+//                gap along the 3 box axes, the facet normals and the cross products of the box axes with
+//                every segment between two points (a superset of the edges). It is <= 0 iff they meet (two
+//                convex polytopes are disjoint iff one of these axes separates them), so "gap <= 0 =>
+//                touched" is exact, and "gap >= 1e-6 => not touched" is the tightness check. A small
+//                positive gap says nothing (the distance may be large), so contacts broken by the jitter
+//                are checked by samples instead: every voxel holding (within 1e-11) a vertex, a point on a
+//                segment between two points, or a point on a facet must be touched.
+
+struct RefPoly {
+    std::vector<std::array<L, 3>> pts;
+    std::vector<std::array<L, 4>> planes; // unit n, c: n.p <= c inside
+    std::vector<std::array<L, 3>> axes;   // unit SAT axes beyond the box's
+    L lo[3], hi[3];
+
+    explicit RefPoly(const std::vector<Vec3>& points) {
+        for (const Vec3& q : points) pts.push_back({L(q.x), L(q.y), L(q.z)});
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::numeric_limits<L>::infinity();
+            hi[a] = -lo[a];
+            for (const auto& q : pts) lo[a] = std::min(lo[a], q[a]), hi[a] = std::max(hi[a], q[a]);
+        }
+        const std::size_t n = pts.size();
+        auto sub = [](const std::array<L, 3>& a, const std::array<L, 3>& b) { return std::array<L, 3>{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+        auto cross = [](const std::array<L, 3>& a, const std::array<L, 3>& b) {
+            return std::array<L, 3>{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        };
+        auto dot = [](const std::array<L, 3>& a, const std::array<L, 3>& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+        L extent = 0;
+        for (int a = 0; a < 3; ++a) extent = std::max(extent, hi[a] - lo[a]);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = i + 1; j < n; ++j)
+                for (std::size_t k = j + 1; k < n; ++k) {
+                    auto nn = cross(sub(pts[j], pts[i]), sub(pts[k], pts[i]));
+                    const L len = std::sqrt(dot(nn, nn));
+                    if (!(len > 1e-12L * extent * extent)) continue;
+                    for (L& c : nn) c /= len;
+                    const L c0 = dot(nn, pts[i]);
+                    L mx = -std::numeric_limits<L>::infinity(), mn = -mx;
+                    for (const auto& q : pts) mx = std::max(mx, dot(nn, q) - c0), mn = std::min(mn, dot(nn, q) - c0);
+                    const L tol = 1e-15L * (extent + 1);
+                    if (mx <= tol) planes.push_back({nn[0], nn[1], nn[2], c0 + std::max(mx, L(0))});
+                    else if (mn >= -tol) planes.push_back({-nn[0], -nn[1], -nn[2], -c0 - std::min(mn, L(0))});
+                }
+        for (const auto& pl : planes) axes.push_back({pl[0], pl[1], pl[2]});
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = i + 1; j < n; ++j) {
+                const auto e = sub(pts[j], pts[i]);
+                for (int a = 0; a < 3; ++a) {
+                    std::array<L, 3> u{0, 0, 0};
+                    u[a] = 1;
+                    auto c = cross(u, e);
+                    const L len = std::sqrt(dot(c, c));
+                    if (len > 1e-12L * (extent + 1)) axes.push_back({c[0] / len, c[1] / len, c[2] / len});
+                }
+            }
+    }
+    L sd(const L p[3]) const {
+        L m = -std::numeric_limits<L>::infinity();
+        for (const auto& pl : planes) m = std::max(m, pl[0] * p[0] + pl[1] * p[1] + pl[2] * p[2] - pl[3]);
+        return m;
+    }
+    L innerMargin(const IVec3& v) const {
+        L m = std::numeric_limits<L>::infinity();
+        for (int k = 0; k < 8; ++k) {
+            const L p[3] = {L(v.x + (k & 1)), L(v.y + ((k >> 1) & 1)), L(v.z + ((k >> 2) & 1))};
+            m = std::min(m, -sd(p));
+        }
+        return m;
+    }
+    /// The SAT gap between the polytope and the box [b0, b1].
+    L gap(const L b0[3], const L b1[3]) const {
+        L g = 0;
+        for (int a = 0; a < 3; ++a) g = std::max({g, lo[a] - b1[a], b0[a] - hi[a]});
+        if (g > 0) return g;
+        for (const auto& u : axes) {
+            L pmin = std::numeric_limits<L>::infinity(), pmax = -pmin;
+            for (const auto& q : pts) {
+                const L d = u[0] * q[0] + u[1] * q[1] + u[2] * q[2];
+                pmin = std::min(pmin, d), pmax = std::max(pmax, d);
+            }
+            L bmin = 0, bmax = 0;
+            for (int a = 0; a < 3; ++a) {
+                bmin += u[a] * (u[a] >= 0 ? b0[a] : b1[a]);
+                bmax += u[a] * (u[a] >= 0 ? b1[a] : b0[a]);
+            }
+            g = std::max({g, pmin - bmax, bmin - pmax});
+        }
+        return g;
+    }
+    L touchDist(const IVec3& v) const {
+        const L b0[3] = {L(v.x), L(v.y), L(v.z)}, b1[3] = {L(v.x + 1), L(v.y + 1), L(v.z + 1)};
+        return gap(b0, b1);
+    }
+    bool outsideGrid(IVec3 res) const {
+        for (int a = 0; a < 3; ++a)
+            if (lo[a] < 0 || hi[a] > res[a]) return true;
+        return false;
+    }
+};
+
+/// checkShape3 for a polytope built from `points` (the oracle's input; `s` is what the library built).
+inline std::string checkPolytope3(const Shape<3>& s, const std::vector<Vec3>& points, IVec3 res, Stats& st) {
+    const RefPoly ref(points);
+    if (ref.planes.size() < 4) return "oracle: fewer than 4 facets";
+    Emitted<3> inner(res), touched(res);
+    forEachInnerVoxel<3>(s, res, [&](const IVec3& v) { inner(v); });
+    forEachTouchedVoxel<3>(s, res, [&](const IVec3& v) { touched(v); });
+    if (!inner.error.empty()) return "inner: " + inner.error;
+    if (!touched.error.empty()) return "touched: " + touched.error;
+    ++st.shapes;
+    st.inner += inner.count;
+    st.touched += touched.count;
+    const bool out = extendsOutsideGrid<3>(s, res);
+    if (out) ++st.outside;
+    if (out != ref.outsideGrid(res)) return std::string("extendsOutsideGrid returned ") + (out ? "true" : "false");
+    auto fail = [](const char* what, const IVec3& v, L a, L b) {
+        std::ostringstream o;
+        o << std::setprecision(17) << what << " at voxel (" << v.x << ", " << v.y << ", " << v.z
+          << "), touchDist=" << (double)a << " innerMargin=" << (double)b;
+        return o.str();
+    };
+    for (int z = 0; z < res.z; ++z)
+        for (int y = 0; y < res.y; ++y)
+            for (int x = 0; x < res.x; ++x) {
+                ++st.voxels;
+                const IVec3 v(x, y, z);
+                const std::size_t i = linearOf<3>(v, res);
+                const bool isInner = inner.hit[i], isTouched = touched.hit[i];
+                const L td = ref.touchDist(v), im = ref.innerMargin(v);
+                if (isInner && !isTouched) return fail("inner but not touched", v, td, im);
+                if (td <= 0 && !isTouched) return fail("touches the polytope but not reported touched", v, td, im);
+                if (td >= kTight && isTouched) return fail("misses the polytope by >= 1e-6 but reported touched", v, td, im);
+                if (im >= kTight && !isInner) return fail("inside the polytope with margin >= 1e-6 but not inner", v, td, im);
+                // Faces snap to voxel boundaries by up to 1e-9 on each of y/z (chords) and x (innerRange).
+                if (isInner && im < -2 * kTolInner) return fail("reported inner but a corner is outside the polytope", v, td, im);
+                if (im >= 0 && im < kTight) ++st.innerContact;
+                if (isTouched && td <= 0) {
+                    const L b0[3] = {x + 1e-7L, y + 1e-7L, z + 1e-7L}, b1[3] = {x + 1 - 1e-7L, y + 1 - 1e-7L, z + 1 - 1e-7L};
+                    if (ref.gap(b0, b1) > 0) ++st.contact;
+                }
+            }
+    // Samples of the polytope: vertices, points on every segment between two points, points on facets.
+    std::vector<std::array<L, 3>> samples = ref.pts;
+    const std::size_t n = ref.pts.size();
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j)
+            for (int k = 1; k < 8; ++k) {
+                const L t = L(k) / 8;
+                samples.push_back({ref.pts[i][0] + t * (ref.pts[j][0] - ref.pts[i][0]), ref.pts[i][1] + t * (ref.pts[j][1] - ref.pts[i][1]),
+                                   ref.pts[i][2] + t * (ref.pts[j][2] - ref.pts[i][2])});
+            }
+    for (const auto& pl : ref.planes) {
+        std::vector<std::size_t> on;
+        for (std::size_t i = 0; i < n; ++i)
+            if (std::fabs(pl[0] * ref.pts[i][0] + pl[1] * ref.pts[i][1] + pl[2] * ref.pts[i][2] - pl[3]) < 1e-12L) on.push_back(i);
+        for (std::size_t a = 0; a + 2 < on.size(); ++a)
+            for (int k = 1; k < 6; ++k)
+                for (int m = 1; k + m < 6; ++m) {
+                    const auto& A = ref.pts[on[a]];
+                    const auto& B = ref.pts[on[a + 1]];
+                    const auto& C = ref.pts[on[a + 2]];
+                    const L u = L(k) / 6, w = L(m) / 6;
+                    samples.push_back({A[0] + u * (B[0] - A[0]) + w * (C[0] - A[0]), A[1] + u * (B[1] - A[1]) + w * (C[1] - A[1]),
+                                       A[2] + u * (B[2] - A[2]) + w * (C[2] - A[2])});
+                }
+    }
+    for (const auto& q : samples) {
+        int lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::max(0, int(std::floor(q[a] - kTolSound)));
+            hi[a] = std::min(res[a] - 1, int(std::floor(q[a] + kTolSound)));
+            if (q[a] + kTolSound < 0 || q[a] - kTolSound > res[a]) lo[a] = 1, hi[a] = 0;
+        }
+        for (int z = lo[2]; z <= hi[2]; ++z)
+            for (int y = lo[1]; y <= hi[1]; ++y)
+                for (int x = lo[0]; x <= hi[0]; ++x) {
+                    const IVec3 v(x, y, z);
+                    ++st.sampleChecks;
+                    if (!touched.hit[linearOf<3>(v, res)]) return fail("holds a sample point of the polytope but not reported touched", v, ref.touchDist(v), ref.innerMargin(v));
+                }
+    }
     return "";
 }
 

@@ -273,6 +273,44 @@ TEST_CASE("3D scenes: culled, with every 3D rule checked first", "[cli]") {
     checkRejected(runRgvc("cull " + quote(badUp)), badUp + ": camera.up: ");
 }
 
+TEST_CASE("3D scenes with obb and hull: culled exactly, bad ones refused", "[cli][polytope]") {
+    // A wall turned by 30 degrees about y (an obb) hides sphere 1; a hull (2) and a moving obb (3) in
+    // front are seen; sphere 4 is behind the camera.
+    json j = json::parse(R"({
+      "dimensions": 3,
+      "grid":   { "origin": [0, 0, 0], "voxel_size": 1, "resolution": [32, 16, 32] },
+      "camera": { "position": [16.5, 8.2, 2.3], "direction": [0, 0, 1], "fov_deg": 70 },
+      "objects": [ { "id": 1, "shape": "sphere", "center": [16, 8, 26], "radius": 1 },
+                   { "id": 5, "shape": "obb", "center": [16, 8, 18], "half_extents": [20, 10, 1],
+                     "rotation": [0, 0.25881904510252074, 0, 0.96592582628906831] },
+                   { "id": 2, "shape": "hull", "points": [[12, 6, 10], [14, 6, 10], [13, 9, 11], [13, 6, 12], [13, 7, 11]] },
+                   { "id": 3, "shape": "obb", "center": [20, 8, 9], "half_extents": [1, 1, 1],
+                     "rotation": [0.2, 0.3, 0.1, 0.92736184954957035], "velocity": [0, 0.3, 0] },
+                   { "id": 4, "shape": "sphere", "center": [16, 8, 0.5], "radius": 0.4 } ]
+    })");
+    const std::string path = writeTemp("polytopes.json", j.dump());
+    Run r = runRgvc("cull " + quote(path) + " --frames 4 --dump-objects");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    checkLines(r.lines(), 4);
+    for (const json& line : r.lines()) CHECK(line["pvs"] == json::array({2, 3, 5}));
+    bool moved = false;
+    const std::vector<json> lines = r.lines();
+    for (const json& o : lines[3]["objects"])
+        if (o["id"] == 3) moved = o["translation"][1].get<double>() == Approx(0.9);
+    CHECK(moved);
+    Run plain = runRgvc("cull " + quote(path) + " --no-occlusion");
+    REQUIRE(plain.status == 0);
+    CHECK(plain.lines()[0]["pvs"] == json::array({1, 2, 3, 5}));
+    j["objects"][1]["rotation"] = json::array({0, 0, 0, 2});
+    const std::string bad = writeTemp("polytopes-bad.json", j.dump());
+    checkRejected(runRgvc("cull " + quote(bad)), bad + ": objects[1].rotation: ");
+    j["objects"][1]["rotation"] = json::array({0, 0, 0, 1});
+    j["objects"][2]["points"] = json::parse("[[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]");
+    const std::string flat = writeTemp("polytopes-flat.json", j.dump());
+    checkRejected(runRgvc("cull " + quote(flat)), flat + ": objects[2].points: ");
+}
+
 TEST_CASE("a good scene: N lines, sorted pvs, stats", "[cli]") {
     const std::string path = writeTemp("good.json", goodScene().dump());
     Run r = runRgvc("cull " + quote(path) + " --frames 7");

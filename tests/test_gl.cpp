@@ -24,6 +24,7 @@
 #include <cstdlib>
 #include <limits>
 #include <map>
+#include <random>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -844,4 +845,86 @@ TEST_CASE("A camera looking straight down with the default up: the renderer read
     // Box 1 (at -z) is above the image's centre (top row first), box 2 (at +x) right of it.
     CHECK(img.idAt(kWidth / 2, kHeight / 2 - kHeight / 4) == std::optional<ObjectId>(1));
     CHECK(img.idAt(kWidth / 2 + kWidth / 4, kHeight / 2) == std::optional<ObjectId>(2));
+}
+
+TEST_CASE("Polytopes: the drawn obbs and hulls match their shapes pixel by pixel (item buffer vs rays)", "[gl][polytope]") {
+    // Every pixel's centre ray is cast through the analytic polytopes, grown and shrunk by delta: a pixel
+    // may show object X only where the ray meets X grown (the mesh lies inside the shape), and where the
+    // ray meets X shrunk before any other grown object, it must show X (the mesh covers the shape).
+    const double delta = 0.01;
+    auto entry = [](const ConvexPolytope& p, const Vec3& d, double grow) {
+        double lo = 0, hi = std::numeric_limits<double>::infinity();
+        for (const HalfSpace& h : p.planes) {
+            const double den = glm::dot(h.normal, d), c = h.offset + grow; // camera at the origin
+            if (den > 0) hi = std::min(hi, c / den);
+            else if (den < 0) lo = std::max(lo, c / den);
+            else if (c < 0) return std::numeric_limits<double>::infinity();
+        }
+        return lo <= hi ? lo : std::numeric_limits<double>::infinity();
+    };
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int checkedIn = 0, shown = 0;
+    for (int view = 0; view < 4; ++view) {
+        std::vector<Shape<3>> shapes;
+        for (int k = 0; k < 6; ++k) {
+            const Vec3 c(3 * u(rng), 2 * u(rng), -8 - 4 * u(rng) - k);
+            if (k % 2 == 0) {
+                std::array<double, 4> q{u(rng), u(rng), u(rng), u(rng)};
+                const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+                for (double& x : q) x /= n;
+                shapes.push_back(makeOrientedBox(c, {0.4 + 0.8 * std::abs(u(rng)), 0.3 + std::abs(u(rng)), 0.2 + 0.5 * std::abs(u(rng))}, q, "obb"));
+            } else {
+                std::vector<Vec3> pts;
+                for (int m = 0; m < 12; ++m) pts.push_back(c + Vec3(u(rng), u(rng), u(rng)) * 1.2);
+                shapes.push_back(makeConvexHull(pts, "hull"));
+            }
+        }
+        Scene s(shapes);
+        const ItemBufferImage img = itemBuffer(s.renderer, frontCamera(), kWidth, kHeight);
+        const double f = 1.0 / std::tan(0.5 * 60 * 3.14159265358979323846 / 180), aspect = double(kWidth) / kHeight;
+        int wrongShown = 0, wrongMissing = 0;
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x) {
+                const double nx = 2 * (x + 0.5) / kWidth - 1, ny = 1 - 2 * (y + 0.5) / kHeight;
+                const Vec3 d = glm::normalize(Vec3(nx * aspect / f, ny / f, -1));
+                const std::optional<ObjectId> id = img.idAt(x, y);
+                if (id) {
+                    ++shown;
+                    wrongShown += !std::isfinite(entry(std::get<ConvexPolytope>(shapes[*id - 1]), d, delta));
+                }
+                // The nearest shrunk hit, if it is nearer than every other grown entry.
+                std::size_t best = shapes.size();
+                double bestT = std::numeric_limits<double>::infinity();
+                for (std::size_t i = 0; i < shapes.size(); ++i) {
+                    const double t = entry(std::get<ConvexPolytope>(shapes[i]), d, -delta);
+                    if (t < bestT) bestT = t, best = i;
+                }
+                if (best == shapes.size()) continue;
+                bool clear = true;
+                for (std::size_t i = 0; i < shapes.size(); ++i)
+                    clear = clear && (i == best || entry(std::get<ConvexPolytope>(shapes[i]), d, delta) > bestT);
+                if (!clear) continue;
+                ++checkedIn;
+                wrongMissing += id != std::optional<ObjectId>(ObjectId(best + 1));
+            }
+        INFO("view " << view);
+        CHECK(wrongShown == 0);
+        CHECK(wrongMissing == 0);
+        // Drawn facets: containment follows the analytic shape.
+        const ConvexPolytope& p0 = std::get<ConvexPolytope>(shapes[0]);
+        Vec3 centroid(0.0);
+        for (const Vec3& v : p0.vertices) centroid += v / double(p0.vertices.size());
+        CHECK(s.renderer.drawnShapeContains(1, centroid));
+        CHECK_FALSE(s.renderer.drawnShapeContains(1, p0.vertices[0] + 0.05 * (p0.vertices[0] - centroid)));
+        CHECK(s.renderer.distanceToDrawn(1, centroid) == 0);
+        CHECK(s.renderer.distanceToDrawn(1, p0.vertices[0] + (p0.vertices[0] - centroid)) > 0);
+    }
+    CHECK(checkedIn > 2000);
+    CHECK(shown > 2000);
+    // Moving a polytope moves its pixels; removing it removes them.
+    Scene s({makeOrientedBox({0, 0, -10}, {1, 1, 1}, {0, 0, 0, 1}, "obb")});
+    CHECK(itemBuffer(s.renderer, frontCamera(), kWidth, kHeight).visible == std::vector<ObjectId>{1});
+    s.renderer.setObject(1, makeOrientedBox({0, 0, 10}, {1, 1, 1}, {0, 0, 0, 1}, "obb")); // behind the camera
+    CHECK(itemBuffer(s.renderer, frontCamera(), kWidth, kHeight).visible.empty());
 }

@@ -1,12 +1,16 @@
 // GridGeometry (world <-> voxel mapping, bounds convention, linear indices, input validation) and the
 // dense VoxelStorage, checked against brute force. Tag: [grid].
 #include "rgvc/grid/GridGeometry.hpp"
+#include "rgvc/grid/Shapes.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
 #include "rgvc/grid/VoxelSize.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <limits>
 #include <random>
@@ -470,4 +474,153 @@ TEST_CASE("recommendVoxelSize: the surface-weighted median of the objects' opaqu
     CHECK(field([&] { recommendVoxelSize<3>(std::vector<Shape<3>>{Ball<3>{{0, 0, 0}, -1}}, world); }) == "shapes[0].radius");
     CHECK(field([&] { recommendVoxelSize<3>(walls, world, {.maxVoxels = 0}); }) == "options.maxVoxels");
     CHECK(field([&] { recommendVoxelSize<3>(walls, world, {.minVoxelsPerAxis = NAN}); }) == "options.minVoxelsPerAxis");
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Convex polytopes (ConvexPolytope.hpp): the hull, oriented boxes, erosion, validation.
+
+TEST_CASE("makeConvexHull: every point inside, every vertex a point, a closed 2-manifold", "[grid][polytope]") {
+    std::mt19937_64 rng(1234);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int trial = 0; trial < 200; ++trial) {
+        const int n = trial < 100 ? 4 + trial % 40 : 50 + 20 * (trial % 10);
+        const bool sphere = trial % 3 == 0, lattice = trial % 7 == 0;
+        const Vec3 offset = trial % 5 == 0 ? Vec3(1e6, -3e5, 2e4) : Vec3(0.0);
+        std::vector<Vec3> pts;
+        for (int k = 0; k < n; ++k) {
+            Vec3 q(u(rng), u(rng), u(rng));
+            if (sphere) q = safeNormalize<3>(q);
+            if (lattice) q = glm::round(q * 3.0);
+            pts.push_back(offset + q * 10.0);
+        }
+        ConvexPolytope p;
+        try {
+            p = makeConvexHull(pts, "pts");
+        } catch (const InvalidInput& e) {
+            INFO(e.what());
+            CHECK(lattice); // only a lattice draw can be flat
+            continue;
+        }
+        INFO("trial " << trial);
+        CHECK_NOTHROW(validatePolytope(p, "p"));
+        const double tol = 1e-12 * (1e6 + 10);
+        for (const Vec3& q : pts)
+            for (const HalfSpace& h : p.planes) CHECK(glm::dot(h.normal, q) <= h.offset + tol);
+        for (const Vec3& v : p.vertices) CHECK(std::find(pts.begin(), pts.end(), v) != pts.end());
+        // Closed: every edge in two triangles; Euler V - E + F = 2.
+        CHECK(p.edges.size() * 2 == p.triangles.size() * 3);
+        CHECK(p.vertices.size() + p.triangles.size() - p.edges.size() == 2);
+        // Points on a sphere are all vertices (none is inside the others' hull).
+        if (sphere && !lattice && offset == Vec3(0.0)) CHECK(p.vertices.size() == pts.size());
+    }
+    // A cube's corners and its centre: 8 vertices, 6 planes (coplanar triangles merged).
+    std::vector<Vec3> cube;
+    for (int k = 0; k < 8; ++k) cube.push_back(Vec3(k & 1, (k >> 1) & 1, (k >> 2) & 1));
+    cube.push_back(Vec3(0.5));
+    cube.push_back(Vec3(0.5, 0.5, 1)); // on a face
+    const ConvexPolytope c = makeConvexHull(cube, "cube");
+    CHECK(c.vertices.size() == 8);
+    CHECK(c.planes.size() == 6);
+    CHECK(c.boundsMin == Vec3(0.0));
+    CHECK(c.boundsMax == Vec3(1.0));
+    // 2,000 points on a sphere (the cost is O(points x facets)).
+    std::vector<Vec3> many;
+    for (int k = 0; k < 2000; ++k) many.push_back(safeNormalize<3>(Vec3(u(rng), u(rng), u(rng))));
+    const auto t0 = std::chrono::steady_clock::now();
+    const ConvexPolytope big = makeConvexHull(many, "many");
+    std::printf("hull of 2,000 points on a sphere: %zu vertices, %zu planes, %.0f ms\n", big.vertices.size(), big.planes.size(),
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    CHECK(big.vertices.size() == 2000);
+}
+
+TEST_CASE("makeConvexHull and makeOrientedBox: bad input is a clear InvalidInput", "[grid][polytope]") {
+    auto fails = [](auto&& f, const std::string& field, const std::string& part) {
+        try {
+            f();
+        } catch (const InvalidInput& e) {
+            INFO(e.what());
+            CHECK(e.field() == field);
+            CHECK(std::string(e.what()).find(part) != std::string::npos);
+            return;
+        }
+        FAIL("accepted");
+    };
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    auto hull = [](std::vector<Vec3> p) { return [p] { makeConvexHull(p, "h"); }; };
+    fails(hull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), "h", "at least 4");
+    fails(hull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {3, 2, 0}}), "h", "one plane");
+    fails(hull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 1e-12}}), "h", "one plane"); // flat within 1e-9 of its extent
+    fails(hull({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {-1, -1, -1}}), "h", "one line");
+    fails(hull({{1, 1, 1}, {1, 1, 1}, {1, 1, 1}, {1, 1, 1}}), "h", "coincide");
+    fails(hull({{0, 0, 0}, {1, 0, 0}, {0, nan, 0}, {0, 0, 1}}), "h[2]", "finite");
+    fails(hull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, inf}}), "h[3]", "finite");
+    fails(hull({{0, 0, 0}, {1e300, 0, 0}, {0, 1e300, 0}, {0, 0, 1e300}}), "h", "overflows");
+    auto obb = [](Vec3 c, Vec3 h, std::array<double, 4> q) { return [=] { makeOrientedBox(c, h, q, "o"); }; };
+    fails(obb({0, 0, 0}, {1, 1, 1}, {0, 0, 0, 1.01}), "o.rotation", "unit quaternion");
+    fails(obb({0, 0, 0}, {1, 1, 1}, {0, 0, 0, 0}), "o.rotation", "unit quaternion");
+    fails(obb({0, 0, 0}, {1, 1, 1}, {0, nan, 0, 1}), "o.rotation", "finite");
+    fails(obb({0, 0, 0}, {1, 0, 1}, {0, 0, 0, 1}), "o.half_extents", "> 0");
+    fails(obb({0, 0, 0}, {1, -2, 1}, {0, 0, 0, 1}), "o.half_extents", "> 0");
+    fails(obb({0, inf, 0}, {1, 1, 1}, {0, 0, 0, 1}), "o.center", "finite");
+    fails(obb({0, 0, 0}, {1e308, 1e308, 1}, {0, 0, 0.3826834323650898, 0.9238795325112867}), "o.half_extents", "overflow");
+    // Within 1e-5 of unit: normalised.
+    const ConvexPolytope ok = makeOrientedBox({0, 0, 0}, {1, 2, 3}, {0, 0, 0, 1.000009}, "o");
+    CHECK(ok.boundsMax.z == Approx(3));
+    // A polytope assembled by hand must be consistent (validateShape).
+    ConvexPolytope bad = ok;
+    bad.planes[0].offset -= 1; // a vertex now outside a plane
+    Shape<3> s = bad;
+    fails([&] { validateShape<3>(s, "obj"); }, "obj.planes", "inside every plane");
+    bad = ok;
+    bad.planes[1].normal *= 2;
+    s = bad;
+    fails([&] { validateShape<3>(s, "obj"); }, "obj.planes", "unit");
+    bad = ok;
+    bad.triangles[0][1] = 99;
+    s = bad;
+    fails([&] { validateShape<3>(s, "obj"); }, "obj.triangles", "out of range");
+    bad = ok;
+    bad.vertices[2].x = nan;
+    s = bad;
+    fails([&] { validateShape<3>(s, "obj"); }, "obj.points", "finite");
+}
+
+TEST_CASE("oriented boxes: corners, planes, bounds; erosion moves every plane in exactly", "[grid][polytope]") {
+    const double s2 = std::sqrt(0.5);
+    // 90 degrees about z: x -> y, y -> -x.
+    const ConvexPolytope p = makeOrientedBox({1, 2, 3}, {1, 2, 3}, {0, 0, s2, s2}, "o");
+    CHECK(p.vertices.size() == 8);
+    CHECK(p.planes.size() == 6);
+    CHECK(p.boundsMin.x == Approx(-1));
+    CHECK(p.boundsMax.x == Approx(3));
+    CHECK(p.boundsMin.y == Approx(1));
+    CHECK(p.boundsMax.y == Approx(3));
+    CHECK(p.boundsMax.z == Approx(6));
+    const auto cols = rotationColumns({0, 0, s2, s2});
+    CHECK(cols[0].y == Approx(1));
+    CHECK(cols[1].x == Approx(-1));
+    // Erosion by 0.5: the box of half extents (0.5, 1.5, 2.5), same centre and rotation.
+    Shape<3> in;
+    REQUIRE(insetShape<3>(p, 0.5, in));
+    const ConvexPolytope& e = std::get<ConvexPolytope>(in);
+    const ConvexPolytope expect = makeOrientedBox({1, 2, 3}, {0.5, 1.5, 2.5}, {0, 0, s2, s2}, "o");
+    CHECK(e.vertices.size() == 8);
+    for (int a = 0; a < 3; ++a) {
+        CHECK(e.boundsMin[a] == Approx(expect.boundsMin[a]).margin(1e-12));
+        CHECK(e.boundsMax[a] == Approx(expect.boundsMax[a]).margin(1e-12));
+    }
+    // A tetrahedron eroded: every plane moved by d, the vertices where three of them meet.
+    const ConvexPolytope t = makeConvexHull(std::vector<Vec3>{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 4}}, "t");
+    Shape<3> ti;
+    REQUIRE(insetShape<3>(t, 0.25, ti));
+    const ConvexPolytope& te = std::get<ConvexPolytope>(ti);
+    for (const Vec3& v : te.vertices)
+        for (const HalfSpace& h : t.planes) CHECK(glm::dot(h.normal, v) <= h.offset - 0.25 + 1e-12);
+    CHECK(te.boundsMin.x == Approx(0.25));
+    // Nothing left: false.
+    CHECK_FALSE(insetShape<3>(t, 2.0, ti));
+    // Translation moves vertices, planes and bounds.
+    const ConvexPolytope moved = translated(t, Vec3(1, 2, 3));
+    CHECK(moved.boundsMin == Vec3(1, 2, 3));
+    for (const HalfSpace& h : moved.planes) CHECK(glm::dot(h.normal, Vec3(1, 2, 3) + Vec3(0.5)) <= h.offset);
 }

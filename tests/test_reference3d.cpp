@@ -674,3 +674,62 @@ TEST_CASE("reference3d: cost per call", "[reference3d]") {
         CHECK(r->calls > 0);
     }
 }
+
+TEST_CASE("reference3d: polytopes: an axis-aligned obb and a box's corner hull see and hide as the box does", "[reference3d][polytope]") {
+    // Random scenes: every box replaced by the same box as an obb (identity rotation) and as the hull
+    // of its 8 corners gives the same visibility, object for object.
+    int compared = 0, visibleCount = 0;
+    for (std::uint64_t seed = 1; seed <= 60; ++seed) {
+        ref::SceneOptions3D opt;
+        opt.maxObjects = 25;
+        const ref::Scene3D s = ref::randomScene3D(seed, opt);
+        const std::vector<Shape<3>> shapes = ref::shapesOf(s.objects);
+        for (int mode = 0; mode < 2; ++mode) {
+            std::vector<Shape<3>> other;
+            for (const Shape<3>& sh : shapes) {
+                if (const auto* b = std::get_if<Box<3>>(&sh)) {
+                    if (mode == 0) {
+                        other.push_back(makeOrientedBox(0.5 * (b->min + b->max), 0.5 * (b->max - b->min), {0, 0, 0, 1}, "obb"));
+                    } else {
+                        std::vector<Vec3> c;
+                        for (int k = 0; k < 8; ++k) c.push_back({k & 1 ? b->max.x : b->min.x, k & 2 ? b->max.y : b->min.y, k & 4 ? b->max.z : b->min.z});
+                        other.push_back(makeConvexHull(c, "hull"));
+                    }
+                } else {
+                    other.push_back(sh);
+                }
+            }
+            const std::vector<bool> a = visible3D(shapes, s.camera), b = visible3D(other, s.camera);
+            // An obb's corners are centre +- half: rounding may move a face by an ulp, which decides only
+            // exact grazes; the hull's corners are the box's own.
+            if (mode == 1) CHECK(show(a) == show(b));
+            std::size_t differ = 0;
+            for (std::size_t i = 0; i < a.size(); ++i) differ += a[i] != b[i];
+            CHECK(differ <= (mode == 0 ? 1u : 0u));
+            compared += int(a.size());
+            for (bool v : a) visibleCount += v;
+            CHECK(show(ref::inViewRegion3D(shapes, s.camera)) == show(ref::inViewRegion3D(other, s.camera)));
+        }
+    }
+    CHECK(compared > 500);
+    CHECK(visibleCount > 100);
+}
+
+TEST_CASE("reference3d: a turned obb hides what is behind it and shows what is beside it", "[reference3d][polytope]") {
+    const Camera3 cam = makeCamera({0, 0, 0}, {1, 0, 0}, 60);
+    const double a = 30 * 3.14159265358979 / 180;
+    // A wall at x = 6 turned by 30 degrees about z, 1 thick, 6 high: hides the sphere straight behind it.
+    std::vector<Shape<3>> objs = {
+        makeOrientedBox({6, 0, 0}, {0.5, 3, 3}, {0, 0, std::sin(a / 2), std::cos(a / 2)}, "wall"),
+        sphere({12, 0, 0}, 1),   // behind
+        sphere({12, -7, 0}, 1),  // beside (26 to 35 degrees; the wall reaches 22 on this side)
+        makeConvexHull(std::vector<Vec3>{{3, -1, -1}, {3, 1, -1}, {3, 0, 1}, {2.5, 0, 0}}, "tetra"), // in front, small
+        sphere({6.3, 0, 0}, 0.1), // inside the wall: hidden
+    };
+    const auto want = expect({true, false, true, true, false});
+    CHECK(show(visible3D(objs, cam)) == show(want));
+    CHECK(show(visible3D(objs, cam, literal())) == show(want));
+    // The tetrahedron hides a small sphere right behind it.
+    objs.push_back(sphere({4, 0, 0}, 0.1));
+    CHECK(visible3D(objs, cam)[5] == false);
+}

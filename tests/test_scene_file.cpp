@@ -597,3 +597,91 @@ TEST_CASE("motion: 3D scenes step per axis too", "[scene]") {
     CHECK(sim.velocity(10).z == -0.1);
     CHECK(sim.translation(11) == Vec3(0, 0, 0));
 }
+
+// ---------------------------------------------------------------------------------------------------
+// obb and hull (scene-format.md: `obb` center, half_extents, rotation [x, y, z, w]; `hull` points).
+
+namespace {
+json withObject(json object) {
+    json j = example3D();
+    j["objects"].push_back(std::move(object));
+    return j;
+}
+json obb() { return json::parse(R"({ "id": 12, "shape": "obb", "center": [0, 2, 6], "half_extents": [1, 0.5, 2], "rotation": [0, 0.38268343236508984, 0, 0.9238795325112867] })"); }
+json hull() { return json::parse(R"({ "id": 13, "shape": "hull", "points": [[2, 0, 2], [4, 0, 2], [2, 0, 4], [2, 3, 2], [2.5, 0.5, 2.5]] })"); }
+} // namespace
+
+TEST_CASE("3D scenes parse obb and hull exactly", "[scene][polytope]") {
+    json j = example3D();
+    j["objects"].push_back(obb());
+    j["objects"].push_back(hull());
+    Scene s = parse(j);
+    const auto& objs = s.as<3>()->objects;
+    REQUIRE(objs.size() == 4);
+    const auto* o = std::get_if<ConvexPolytope>(&objs[2].shape);
+    REQUIRE(o);
+    CHECK(o->vertices.size() == 8);
+    CHECK(o->planes.size() == 6);
+    // Turned by 45 degrees about y: the box's x/z bounds are (1 + 2) / sqrt 2 around the centre.
+    CHECK(o->boundsMax.x == Approx(3 / std::sqrt(2.0)));
+    CHECK(o->boundsMin.z == Approx(6 - 3 / std::sqrt(2.0)));
+    CHECK(o->boundsMax.y == Approx(2.5));
+    const auto* h = std::get_if<ConvexPolytope>(&objs[3].shape);
+    REQUIRE(h);
+    CHECK(h->vertices.size() == 4); // (2.5, 0.5, 2.5) is inside the tetrahedron
+    CHECK(h->boundsMin == Vec3(2, 0, 2));
+    CHECK(h->boundsMax == Vec3(4, 3, 4));
+    // The rotation need only be unit to 1e-5 (JSON with 6 digits): normalised.
+    json k = withObject(obb());
+    k["objects"][2]["rotation"] = {0, 0.382683, 0, 0.92388};
+    CHECK_NOTHROW(parse(k));
+    // Motion: a moving hull reflects on its points' bounding box.
+    json m = withObject(hull());
+    m["objects"][2]["velocity"] = {0, 0, 1};
+    Scene ms = parse(m);
+    SceneSimulator3 sim(*ms.as<3>());
+    for (int f = 0; f < 4; ++f) sim.step(); // z max 4 + 4 = 8 = the grid's bound: stays
+    CHECK(sim.translation(13).z == 4);
+    sim.step(); // would reach 9 > 8: flips
+    CHECK(sim.translation(13).z == 3);
+    const Box<3> b = boundsOf<3>(sim.shapeAt(2));
+    CHECK(b.max.z == 7);
+}
+
+TEST_CASE("bad obb and hull objects name their field", "[scene][polytope]") {
+    auto bad = [](const char* key, json value, bool isObb = true) {
+        json o = isObb ? obb() : hull();
+        if (value.is_null()) o.erase(key);
+        else o[key] = std::move(value);
+        return reject(withObject(o));
+    };
+    CHECK(bad("center", nullptr) == "objects[2].center");
+    CHECK(bad("center", {0, 1}) == "objects[2].center");
+    CHECK(bad("half_extents", nullptr) == "objects[2].half_extents");
+    CHECK(bad("half_extents", {1, 0, 1}) == "objects[2].half_extents");
+    CHECK(bad("half_extents", {1, -1, 1}) == "objects[2].half_extents");
+    CHECK(bad("half_extents", {1, "x", 1}) == "objects[2].half_extents[1]");
+    CHECK(bad("rotation", nullptr) == "objects[2].rotation");
+    CHECK(bad("rotation", {0, 0, 1}) == "objects[2].rotation");
+    CHECK(bad("rotation", {0, 0, 1, 1}) == "objects[2].rotation");  // length sqrt 2: not unit
+    CHECK(bad("rotation", {0, 0, 0, 0}) == "objects[2].rotation");
+    CHECK(bad("rotation", {0, 0, 0, 0.99}) == "objects[2].rotation"); // 1e-2 off: refused
+    CHECK(bad("rotation", "identity") == "objects[2].rotation");
+    CHECK(bad("points", nullptr, false) == "objects[2].points");
+    CHECK(bad("points", 3, false) == "objects[2].points");
+    CHECK(bad("points", json::parse("[[0,0,0],[1,0,0],[0,1,0]]"), false) == "objects[2].points"); // 3 points
+    CHECK(bad("points", json::parse("[[0,0,0],[1,0,0],[0,1,0],[1,1,0],[5,5,0]]"), false) == "objects[2].points"); // one plane
+    CHECK(bad("points", json::parse("[[0,0,0],[1,1,1],[2,2,2],[3,3,3]]"), false) == "objects[2].points");         // one line
+    CHECK(bad("points", json::parse("[[1,1,1],[1,1,1],[1,1,1],[1,1,1]]"), false) == "objects[2].points");         // one point
+    CHECK(bad("points", json::parse("[[0,0,0],[1,0,0],[0,1,0],[0,0]]"), false) == "objects[2].points[3]");
+    CHECK(bad("points", json::parse("[[0,0,0],[1,0,0],[0,1,0],[0,0,\"z\"]]"), false) == "objects[2].points[3][2]");
+    // NaN and infinity cannot be written in JSON; 1e999 overflows and names its field.
+    std::string text = withObject(hull()).dump();
+    CHECK(rejectText(replacedIn(text, "[4,0,2]", "[4,1e999,2]")) == "objects[2].points[1][1]");
+    // 2D scenes have neither.
+    json two = example2D();
+    two["objects"].push_back(json::parse(R"({ "id": 99, "shape": "hull", "points": [[0,0],[1,0],[0,1]] })"));
+    CHECK(reject(two) == "objects[3].shape");
+    two["objects"][3]["shape"] = "obb";
+    CHECK(reject(two) == "objects[3].shape");
+}

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -363,7 +364,7 @@ template <int D> Shape<D> readShape(const Reader& r, const json& o, const std::s
     const json& kind = r.require(o, "shape", f);
     if (!kind.is_string()) r.fail(f + ".shape", "must be a string, got " + Reader::describe(kind));
     const std::string name = kind.get<std::string>();
-    const char* expected = D == 2 ? "circle, box or polygon" : "sphere or box";
+    const char* expected = D == 2 ? "circle, box or polygon" : "sphere, box, obb or hull";
     Shape<D> shape;
     if (name == "circle" || name == "sphere") {
         if ((name == "circle") != (D == 2))
@@ -389,6 +390,32 @@ template <int D> Shape<D> readShape(const Reader& r, const json& o, const std::s
             shape = std::move(poly);
         } else {
             r.fail(f + ".shape", "\"polygon\" is a 2D shape; a 3D scene has " + std::string(expected));
+        }
+    } else if (name == "obb" || name == "hull") {
+        if constexpr (D == 3) {
+            if (name == "obb") {
+                const Vec3 center = r.vec<3>(r.require(o, "center", f), f + ".center");
+                const Vec3 half = r.vec<3>(r.require(o, "half_extents", f), f + ".half_extents");
+                const json& q = r.require(o, "rotation", f);
+                if (!q.is_array() || q.size() != 4)
+                    r.fail(f + ".rotation", "must be a unit quaternion [x, y, z, w] (4 numbers), got " +
+                                                (q.is_array() ? std::to_string(q.size()) + " numbers" : Reader::describe(q)));
+                std::array<double, 4> rot{};
+                for (std::size_t i = 0; i < 4; ++i) rot[i] = r.number(q[i], f + ".rotation[" + std::to_string(i) + "]");
+                r.library([&] { shape = makeOrientedBox(center, half, rot, f); });
+            } else {
+                const json& pts = r.require(o, "points", f);
+                r.requireArray(pts, f + ".points");
+                if (pts.size() > kMaxHullPoints)
+                    r.fail(f + ".points", "at most " + std::to_string(kMaxHullPoints) + " points, got " + std::to_string(pts.size()));
+                std::vector<Vec3> points;
+                points.reserve(pts.size());
+                for (std::size_t i = 0; i < pts.size(); ++i)
+                    points.push_back(r.vec<3>(pts[i], f + ".points[" + std::to_string(i) + "]"));
+                r.library([&] { shape = makeConvexHull(points, f + ".points"); });
+            }
+        } else {
+            r.fail(f + ".shape", "\"" + name + "\" is a 3D shape; a 2D scene has " + std::string(expected));
         }
     } else {
         r.fail(f + ".shape", "unknown shape \"" + name + "\" (expected " + expected + ")");

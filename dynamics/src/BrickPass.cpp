@@ -43,7 +43,11 @@ template <int D> template <class View> void Culler<D>::Impl::classify(ObjectSlot
         // rgvc_bench_classes 17.0, 10.4 and 8.5 ms. Boxes from 4: boxes tile (walls of unit boxes,
         // floors, buildings side by side), and the seams between them fuse only if both are drawn
         // (test_brick_traversal's rooms of unit boxes seen at 138 degrees let an object through at 16).
-        const double minPixels = std::holds_alternative<Box<D>>(r.at.local) ? 4.0 : kMinTraversalOccluderPixels;
+        // Polytopes (oriented boxes, hulls) are level geometry like boxes, and drawn from 4 pixels too.
+        const bool tiles = std::holds_alternative<Box<D>>(r.at.local);
+        bool polytope = false;
+        if constexpr (D == 3) polytope = std::holds_alternative<ConvexPolytope>(r.at.local);
+        const double minPixels = tiles || polytope ? 4.0 : kMinTraversalOccluderPixels;
         if (imageActive && r.at.occludes && traversalImage.spans(boundingBall<D>(r.at.local).radius, nearest, minPixels))
             traversalImage.draw(*r.at.occluder(), slack);
     } else {

@@ -229,7 +229,8 @@ bool OcclusionBuffer3D::rowSpan(const Footprint& f, int j, int& i0, int& i1) con
 double OcclusionBuffer3D::nearestDistance(const Shape<3>& shape, double grow) const {
     if (const auto* b = std::get_if<Ball<3>>(&shape))
         return std::max(0.0, std::sqrt(lengthSquared<3>(b->center - m_apex)) - (b->radius + grow));
-    const Box<3>& box = std::get<Box<3>>(shape);
+    // Boxes, and polytopes by their bounding box (which contains them: a nearer bound is conservative).
+    const Box<3> box = boundsOf<3>(shape);
     const Vec3 nearest = glm::clamp(m_apex, box.min - grow, box.max + grow);
     return std::sqrt(lengthSquared<3>(nearest - m_apex));
 }
@@ -264,7 +265,9 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
             inView = footprintOf(lo, hi, zMinOf(nearest), f);
         }
     } else {
-        const Box<3>& box = std::get<Box<3>>(shape);
+        // A box, or a polytope's bounding box: its footprint holds the polytope's (the test is then for
+        // the box, which contains the polytope: conservative).
+        const Box<3> box = boundsOf<3>(shape);
         lo = box.min - grow - m_apex;
         hi = box.max + grow - m_apex;
         inView = footprintOf(lo, hi, zMinOf(nearest), f);
@@ -417,6 +420,10 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
         }, nullptr);
         return;
     }
+    if (const auto* p = std::get_if<ConvexPolytope>(&shape)) {
+        drawPolytope(*p, shrink);
+        return;
+    }
     const Box<3>& box = std::get<Box<3>>(shape);
     const Vec3 lo = box.min + shrink - m_apex, hi = box.max - shrink - m_apex;
     for (int a = 0; a < 3; ++a)
@@ -479,6 +486,55 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
             out[i] = ok ? t : -1.0;
         }
     }, onPartial, seam != 0);
+}
+
+void OcclusionBuffer3D::drawPolytope(const ConvexPolytope& p, double shrink) {
+    // The box's slab test generalised to any number of planes: along the corner ray s D (D = forward +
+    // x right + y up, unnormalized), plane n.q <= c' (apex-relative, moved in by the shrink and by the
+    // polytope's tolerance, so that only the true shape's interior counts) bounds s from below where
+    // n.D < 0 (the ray enters there) and from above where n.D > 0. The ray passes through the interior
+    // when the largest entry is positive and the smallest exit beyond it, with the relative margin; the
+    // entry distance is s |D|. Sound for the same reasons as the box (OcclusionBuffer3D.hpp): the
+    // polytope is convex, and its entry distance is a maximum over its near planes of quasi-convex
+    // functions on the image plane, so the pixel's largest entry is at a corner ray. No seam fusion
+    // (a polytope that only covers part of a pixel covers nothing there): conservative.
+    const std::size_t np = p.planes.size();
+    m_planeN.resize(np);
+    m_planeC.resize(np);
+    double scale = 0;
+    for (std::size_t k = 0; k < np; ++k) {
+        const HalfSpace& h = p.planes[k];
+        m_planeN[k] = h.normal;
+        m_planeC[k] = h.offset - shrink - p.tolerance - glm::dot(h.normal, m_apex);
+        scale = std::max(scale, std::abs(m_planeC[k]));
+    }
+    // The camera inside the (shrunk) polytope, or on its boundary: skipped, like a box holding it.
+    bool inside = true;
+    for (std::size_t k = 0; k < np; ++k) inside = inside && m_planeC[k] >= -kRelMargin * scale;
+    if (inside) return;
+    const Vec3 lo = p.boundsMin - m_apex, hi = p.boundsMax - m_apex;
+    ++m_stats.occludersDrawn;
+    const double m = kRelMargin, pad = kRelMargin * scale;
+    const Vec3* normals = m_planeN.data();
+    const double* offsets = m_planeC.data();
+    drawRect(rectOf(lo, hi), [&](int j, int i0, int i1, double* out) {
+        const double y = m_cornerY[std::size_t(j)];
+        const Vec3 b = m_forward + y * m_up;
+        const double* inv = m_invLen.data() + std::size_t(j) * std::size_t(m_cols + 1);
+        for (int i = i0; i <= i1; ++i) {
+            const Vec3 d = b + m_cornerX[std::size_t(i)] * m_right;
+            double e = -kInf, f = kInf;
+            bool ok = true;
+            for (std::size_t k = 0; k < np; ++k) {
+                const double den = glm::dot(normals[k], d), c = offsets[k];
+                if (den > 0) f = std::min(f, c / den);
+                else if (den < 0) e = std::max(e, c / den);
+                else ok = ok && c > 0;
+            }
+            ok = ok && e > 0 && f - e > m * f + 1e-300;
+            out[i] = ok ? (e / inv[i]) * (1 + m) + pad : -1.0;
+        }
+    }, nullptr);
 }
 
 } // namespace rgvc

@@ -28,9 +28,14 @@ Vec3 normalized(const Vec3& v) { return v / std::sqrt(lengthSquared<3>(v)); }
 // An object in camera-relative coordinates (the camera is the origin, so rays are t*u, u a unit vector).
 struct Obj {
     bool isBall = false;
+    bool isPoly = false; // a convex polytope (obb, hull): planes, vertices, edges, triangles
     Vec3 center{0.0}; // ball
     double radius = 0;
-    Vec3 lo{0.0}, hi{0.0}; // box; for a ball its bounds
+    Vec3 lo{0.0}, hi{0.0}; // box; for a ball or a polytope its bounds
+    std::vector<HalfSpace> planes; // camera-relative
+    std::vector<Vec3> verts;
+    std::vector<std::array<std::uint32_t, 2>> edges;
+    std::vector<std::array<std::uint32_t, 3>> tris;
 };
 
 Obj prepare(const Shape<3>& shape, const Vec3& cam) {
@@ -41,10 +46,20 @@ Obj prepare(const Shape<3>& shape, const Vec3& cam) {
         o.radius = b->radius;
         o.lo = o.center - o.radius;
         o.hi = o.center + o.radius;
+    } else if (const auto* x = std::get_if<Box<3>>(&shape)) {
+        o.lo = x->min - cam;
+        o.hi = x->max - cam;
     } else {
-        const Box<3>& x = std::get<Box<3>>(shape);
-        o.lo = x.min - cam;
-        o.hi = x.max - cam;
+        // A polytope: taken as its vertices' hull with its planes (the library's two representations agree
+        // to within its tolerance, ~1e-15 of the extent, far below eps).
+        const ConvexPolytope& p = std::get<ConvexPolytope>(shape);
+        o.isPoly = true;
+        o.lo = p.boundsMin - cam;
+        o.hi = p.boundsMax - cam;
+        for (const HalfSpace& h : p.planes) o.planes.push_back({h.normal, h.offset - glm::dot(h.normal, cam)});
+        for (const Vec3& v : p.vertices) o.verts.push_back(v - cam);
+        o.edges = p.edges;
+        o.tris = p.triangles;
     }
     return o;
 }
@@ -55,6 +70,19 @@ Obj prepare(const Shape<3>& shape, const Vec3& cam) {
 Interval clip(const Obj& o, const Vec3& u, double off) {
     if (o.isBall) return clipBall<3>(o.center, o.radius, u, off);
     double lo = -kInf, hi = kInf;
+    if (o.isPoly) {
+        for (const HalfSpace& h : o.planes) {
+            const double den = glm::dot(h.normal, u), c = h.offset + off;
+            if (std::abs(den) < 1e-300) {
+                if (c < 0) return {};
+                continue;
+            }
+            if (den > 0) hi = std::min(hi, c / den);
+            else lo = std::max(lo, c / den);
+            if (lo > hi) return {};
+        }
+        return {lo, hi};
+    }
     for (int a = 0; a < 3; ++a) {
         double l = o.lo[a] - off, h = o.hi[a] + off;
         if (!(l <= h)) return {};
@@ -74,6 +102,11 @@ Interval clip(const Obj& o, const Vec3& u, double off) {
 
 bool containsPoint(const Obj& o, const Vec3& q, double off) {
     if (o.isBall) return lengthSquared<3>(q - o.center) <= (o.radius + off) * (o.radius + off);
+    if (o.isPoly) {
+        for (const HalfSpace& h : o.planes)
+            if (glm::dot(h.normal, q) > h.offset + off) return false;
+        return true;
+    }
     for (int a = 0; a < 3; ++a)
         if (q[a] < o.lo[a] - off || q[a] > o.hi[a] + off) return false;
     return true;
@@ -428,6 +461,62 @@ void boxTargets(const Obj& o, const Frustum& fr, int d, std::vector<Vec3>& out) 
     }
 }
 
+// A polytope: the centroid, the vertices, points inside every edge, a barycentric grid inside every
+// triangle that faces the camera (or holds it in its plane), the cuts of every triangle by the side planes
+// (points along them, and where they meet the other side planes and the far sphere), and where the far
+// sphere cuts it: circles on each triangle's plane kept inside the triangle, and the edges piercing it.
+void polyTargets(const Obj& o, const Frustum& fr, int d, std::vector<Vec3>& out) {
+    Vec3 mid(0.0);
+    for (const Vec3& v : o.verts) mid += v;
+    out.push_back(mid / double(o.verts.size()));
+    for (const Vec3& v : o.verts) out.push_back(v);
+    for (const auto& e : o.edges)
+        for (int k = 1; k < d; ++k) out.push_back(o.verts[e[0]] + frac(k, d) * (o.verts[e[1]] - o.verts[e[0]]));
+    for (const auto& t : o.tris) {
+        const Vec3 &a = o.verts[t[0]], &b = o.verts[t[1]], &c = o.verts[t[2]];
+        const Vec3 n = glm::cross(b - a, c - a);
+        if (glm::dot(n, a) > 0) continue; // the camera is behind this triangle's plane: a back face
+        for (int i = 1; i < d; ++i)
+            for (int j = 1; i + j < d; ++j) out.push_back(a + frac(i, d) * (b - a) + frac(j, d) * (c - a));
+    }
+    for (int i = 0; i < 4; ++i) {
+        const Vec3& n = fr.n[i];
+        for (const auto& t : o.tris) {
+            const Vec3 q[3] = {o.verts[t[0]], o.verts[t[1]], o.verts[t[2]]};
+            std::vector<Vec3> cut;
+            for (int k = 0; k < 3; ++k) addSegmentPlanePoint(cut, q[k], q[(k + 1) % 3], n);
+            for (std::size_t p = 0; p < cut.size(); ++p)
+                for (std::size_t r = p + 1; r < cut.size(); ++r) {
+                    for (int k = 0; k <= d; ++k) out.push_back(cut[p] + frac(k, d) * (cut[r] - cut[p]));
+                    for (int j = 0; j < 4; ++j)
+                        if (j != i) addSegmentPlanePoint(out, cut[p], cut[r], fr.n[j]);
+                    addSegmentFarPoints(out, cut[p], cut[r], fr.far);
+                }
+        }
+    }
+    if (std::isfinite(fr.far)) {
+        const double F = fr.far;
+        for (const auto& t : o.tris) {
+            const Vec3 &a = o.verts[t[0]], &b = o.verts[t[1]], &c = o.verts[t[2]];
+            const Vec3 n = normalized(glm::cross(b - a, c - a));
+            const double h = glm::dot(n, a);
+            if (std::abs(h) > F) continue;
+            Vec3 e1 = normalized(b - a);
+            const Vec3 e2 = glm::cross(n, e1);
+            std::vector<Vec3> circle;
+            addCircle(circle, h * n, std::sqrt(F * F - h * h), e1, e2, 4 * d);
+            for (const Vec3& p : circle) {
+                // Inside the triangle (barycentric signs, with a little slack).
+                const double s0 = glm::dot(glm::cross(b - a, p - a), n), s1 = glm::dot(glm::cross(c - b, p - b), n),
+                             s2 = glm::dot(glm::cross(a - c, p - c), n);
+                const double tol = -1e-12 * lengthSquared<3>(b - a);
+                if (s0 >= tol && s1 >= tol && s2 >= tol) out.push_back(p);
+            }
+        }
+        for (const auto& e : o.edges) addSegmentFarPoints(out, o.verts[e[0]], o.verts[e[1]], F);
+    }
+}
+
 // ---------------------------------------------------------------------------------------------------
 // Ray culling for the grid. Grid ray (i, j) has direction f + tan(th_i) r + tan(tv_j) v; projected onto
 // the (r, f) plane it is the 2D ray at angle th_i, so it can only pass within rho of a point at 2D
@@ -543,6 +632,10 @@ Outline outlineOf(const Obj& o, double eps) {
             const double sr = o.radius / L;
             out.k = std::sqrt(std::max(0.0, 1 - sr * sr));
         }
+        return out;
+    }
+    if (o.isPoly) { // its outline is made of arcs of its edges' fans (all taken: a superset)
+        for (const auto& e : o.edges) addArc(out.arcs, o.verts[e[0]], o.verts[e[1]]);
         return out;
     }
     auto corner = [&](int bits) { return Vec3{bits & 1 ? o.hi.x : o.lo.x, bits & 2 ? o.hi.y : o.lo.y, bits & 4 ? o.hi.z : o.lo.z}; };
@@ -689,6 +782,47 @@ bool sphereTouchesView(const Obj& o, const Frustum& fr, double eps) {
     return lengthSquared<3>(q - best) <= r * r;
 }
 
+// Distance from the origin to a convex polygon in any plane.
+double originPolygonDistanceAny(const std::vector<Vec3>& poly) {
+    const std::size_t m = poly.size();
+    if (m >= 3) {
+        Vec3 n(0.0);
+        for (std::size_t k = 1; k + 1 < m; ++k) n += glm::cross(poly[k] - poly[0], poly[k + 1] - poly[0]);
+        const double n2 = lengthSquared<3>(n);
+        if (n2 > 0) {
+            const Vec3 nn = n / std::sqrt(n2);
+            const Vec3 p = glm::dot(poly[0], nn) * nn; // the origin's projection onto the plane
+            bool inside = true;
+            for (std::size_t k = 0; k < m && inside; ++k) inside = glm::dot(glm::cross(poly[(k + 1) % m] - poly[k], p - poly[k]), nn) >= 0;
+            if (inside) return std::abs(glm::dot(poly[0], nn));
+        }
+    }
+    double best = kInf;
+    for (std::size_t k = 0; k < m; ++k) best = std::min(best, pointSegmentDistance(Vec3(0.0), poly[k], poly[(k + 1) % m]));
+    return best;
+}
+
+bool polyTouchesView(const Obj& o, const Frustum& fr, double eps) {
+    if (containsPoint(o, Vec3(0.0), eps)) return true; // holds the apex
+    double best = kInf;
+    for (const auto& t : o.tris) {
+        // The triangle pushed out by eps along its plane's normal, clipped by the side planes.
+        const Vec3 &a = o.verts[t[0]], &b = o.verts[t[1]], &c = o.verts[t[2]];
+        const Vec3 n = normalized(glm::cross(b - a, c - a));
+        const Vec3 mid = (a + b + c) / 3.0;
+        std::vector<Vec3> poly;
+        for (const Vec3* v : {&a, &b, &c}) poly.push_back(*v + eps * n + eps * normalized(*v - mid));
+        for (const Vec3& nn : fr.n) {
+            poly = clipPolygon(poly, nn, eps);
+            if (poly.empty()) break;
+        }
+        if (poly.empty()) continue;
+        if (!std::isfinite(fr.far)) return true;
+        best = std::min(best, originPolygonDistanceAny(poly));
+    }
+    return best < kInf && best <= fr.far + eps;
+}
+
 bool boxTouchesView(const Obj& o, const Frustum& fr, double eps) {
     const Vec3 lo = o.lo - eps, hi = o.hi + eps;
     if (lo.x <= 0 && hi.x >= 0 && lo.y <= 0 && hi.y >= 0 && lo.z <= 0 && hi.z >= 0) return true; // holds the apex
@@ -741,7 +875,7 @@ bool touchesViewRegion3D(const Shape<3>& shape, const Camera3& camera, double ep
     if (!(eps > 0)) eps = sceneEpsilon3D({shape}, camera);
     const Frustum fr(camera);
     const Obj o = prepare(shape, camera.position);
-    return o.isBall ? sphereTouchesView(o, fr, eps) : boxTouchesView(o, fr, eps);
+    return o.isBall ? sphereTouchesView(o, fr, eps) : o.isPoly ? polyTouchesView(o, fr, eps) : boxTouchesView(o, fr, eps);
 }
 
 std::vector<bool> inViewRegion3D(const std::vector<Shape<3>>& objects, const Camera3& camera) {
@@ -830,6 +964,7 @@ std::vector<bool> visible3D(const std::vector<Shape<3>>& objects, const Camera3&
             if (seen[x] != Seen3D::No || !possible[x]) continue;
             pts.clear();
             if (objs[x].isBall) sphereTargets(objs[x], fr, d, pts);
+            else if (objs[x].isPoly) polyTargets(objs[x], fr, d, pts);
             else boxTargets(objs[x], fr, d, pts);
             targets += pts.size();
             for (const Vec3& p : pts) {
@@ -865,7 +1000,11 @@ std::vector<bool> visible3D(const std::vector<Shape<3>>& objects, const Camera3&
             crossings(outlines[x], frustum, dirs);
             for (std::size_t y = x + 1; y < n; ++y)
                 if (possible[y] && conesOverlap(outlines[x].bound, outlines[y].bound)) crossings(outlines[x], outlines[y], dirs);
-            if (!objs[x].isBall)
+            if (objs[x].isPoly)
+                for (const Vec3& v : objs[x].verts) {
+                    if (lengthSquared<3>(v) > 0) dirs.push_back(normalized(v));
+                }
+            else if (!objs[x].isBall)
                 for (int c = 0; c < 8; ++c) {
                     Vec3 p{c & 1 ? objs[x].hi.x : objs[x].lo.x, c & 2 ? objs[x].hi.y : objs[x].lo.y, c & 4 ? objs[x].hi.z : objs[x].lo.z};
                     if (lengthSquared<3>(p) > 0) dirs.push_back(normalized(p));

@@ -59,6 +59,11 @@
 // repeats this on a small scale). Sample sets are nested when gridDivisions and targetDivisions
 // double (the same directions bit for bit), so denser sampling never loses an object.
 //
+// Convex polytopes (oriented boxes, hulls) are handled like boxes with any number of faces: clipped by
+// their planes, targets on their vertices, edges and camera-facing triangles (and the plane and far cuts),
+// their edges' arcs in the outlines, their vertices as critical rays; flat faces take part in the seam rule
+// like box faces.
+//
 // Tolerances (one length eps, world units; default 1e-12 times the scene's largest coordinate or radius,
 // camera included; see sceneEpsilon3D): floating point may only make the reference report MORE visible
 // objects: targets are grown by eps (a ray passing within eps of X hits X), blockers are shrunk by eps (a

@@ -28,6 +28,7 @@
 #include "rgvc/grid/Shapes.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -47,6 +48,10 @@ struct SceneOptions3D {
     double farProbability = 0.15;
     /// Probability of a camera outside the grid bounds.
     double cameraOutsideProbability = 0.1;
+    /// Probability that an object (group) is a convex polytope instead: an oriented box (turned, or
+    /// axis-aligned on voxel faces next to boxes), a thin turned wall, or a hull of 4 to 16 points.
+    /// 0 (the default) leaves the scenes of every seed exactly as they were before polytopes existed.
+    double polytopeProbability = 0;
 };
 
 struct Scene3D {
@@ -164,6 +169,53 @@ inline void addObjects(std::mt19937_64& rng, const Placer3& pl, bool snapped, Ve
     }
 }
 
+/// A random unit quaternion [x, y, z, w]; snapped: the identity or a quarter turn about an axis.
+inline std::array<double, 4> randomRotation(std::mt19937_64& rng, bool snapped) {
+    if (snapped) {
+        std::array<double, 4> q{0, 0, 0, 1};
+        if (chance(rng, 0.5)) {
+            q[3] = std::sqrt(0.5);
+            q[std::size_t(uniformInt(rng, 0, 2))] = std::sqrt(0.5);
+        }
+        return q;
+    }
+    const Vec3 a = unitVector(rng);
+    const double angle = uniform(rng, 0, 6.283185307179586);
+    return {a.x * std::sin(angle / 2), a.y * std::sin(angle / 2), a.z * std::sin(angle / 2), std::cos(angle / 2)};
+}
+
+/// One convex polytope (SceneOptions3D::polytopeProbability) in voxel units around `centre`.
+inline void addPolytope(std::mt19937_64& rng, const Placer3& pl, bool snapped, Vec3 centre, double maxSize,
+                        std::vector<Shape<3>>& out) {
+    const double r = uniform01(rng);
+    const double size = logUniform(rng, snapped ? 1.0 : 0.1, std::max(maxSize, 1.5));
+    if (snapped) centre = glm::round(centre);
+    try {
+        if (r < 0.4) { // an oriented box
+            Vec3 half{0.5 * size, 0.5 * size * logUniform(rng, 0.2, 5.0), 0.5 * size * logUniform(rng, 0.2, 5.0)};
+            if (snapped) half = glm::max(glm::round(2.0 * half) / 2.0, Vec3(0.5));
+            out.push_back(makeOrientedBox(pl.world(centre), half * pl.grid.voxelSize(), randomRotation(rng, snapped), "obb"));
+        } else if (r < 0.6) { // a thin turned wall
+            Vec3 half{uniform(rng, 0.05, 1.0), uniform(rng, 2, std::max(3.0, maxSize)), uniform(rng, 1, std::max(2.0, 0.75 * maxSize))};
+            if (snapped) half = glm::max(glm::round(2.0 * half) / 2.0, Vec3(0.5));
+            out.push_back(makeOrientedBox(pl.world(centre), half * pl.grid.voxelSize(), randomRotation(rng, snapped), "wall"));
+        } else { // a hull of 4 to 16 points in a ball, some on its sphere; snapped: on the lattice
+            std::vector<Vec3> pts;
+            const int n = uniformInt(rng, 4, 16);
+            for (int k = 0; k < n; ++k) {
+                Vec3 q = unitVector(rng) * (chance(rng, 0.5) ? 1.0 : uniform(rng, 0, 1));
+                Vec3 local = centre + 0.5 * size * Vec3(q.x, q.y * logUniform(rng, 0.3, 3.0), q.z);
+                if (snapped) local = glm::round(local);
+                pts.push_back(pl.world(local));
+            }
+            out.push_back(makeConvexHull(pts, "hull"));
+        }
+    } catch (const InvalidInput&) {
+        // a flat draw (snapped lattice points on one plane): a box instead
+        out.push_back(makeBox(pl, centre - 0.5, centre + 0.5));
+    }
+}
+
 /// A valid `up` for direction `dir`: the default (zero = (0, 1, 0)) when allowed and `preferDefault`,
 /// otherwise an axis or a random vector clearly not parallel to dir.
 inline Vec3 pickUp(std::mt19937_64& rng, const Vec3& dir, bool preferDefault) {
@@ -277,7 +329,10 @@ inline Scene3D randomScene3D(std::uint64_t seed, const SceneOptions3D& opt = {})
     while (int(shapes.size()) < count) {
         // Centres up to 10% beyond the grid on each side: some objects lie partly or wholly outside.
         Vec3 c{uniform(rng, -0.1 * r.x, 1.1 * r.x), uniform(rng, -0.1 * r.y, 1.1 * r.y), uniform(rng, -0.1 * r.z, 1.1 * r.z)};
-        addObjects(rng, pl, scene.snapped, c, std::min({r.x, r.y, r.z}) / 3, shapes);
+        if (opt.polytopeProbability > 0 && chance(rng, opt.polytopeProbability))
+            addPolytope(rng, pl, scene.snapped, c, std::min({r.x, r.y, r.z}) / 3, shapes);
+        else
+            addObjects(rng, pl, scene.snapped, c, std::min({r.x, r.y, r.z}) / 3, shapes);
     }
     shapes.resize(std::size_t(count));
 
@@ -337,9 +392,13 @@ inline std::string toJson(const GridGeometry3& grid, const std::vector<ObjectDes
         s += "    { \"id\": " + std::to_string(o.id) + ", ";
         if (const auto* b = std::get_if<Ball<3>>(&o.shape))
             s += "\"shape\": \"sphere\", \"center\": " + vec(b->center) + ", \"radius\": " + num(b->radius);
-        else {
-            const auto& x = std::get<Box<3>>(o.shape);
-            s += "\"shape\": \"box\", \"min\": " + vec(x.min) + ", \"max\": " + vec(x.max);
+        else if (const auto* x = std::get_if<Box<3>>(&o.shape))
+            s += "\"shape\": \"box\", \"min\": " + vec(x->min) + ", \"max\": " + vec(x->max);
+        else { // a polytope (obb or hull) as the hull of its vertices: the same shape
+            s += "\"shape\": \"hull\", \"points\": [";
+            const auto& p = std::get<ConvexPolytope>(o.shape);
+            for (std::size_t k = 0; k < p.vertices.size(); ++k) s += (k ? ", " : "") + vec(p.vertices[k]);
+            s += "]";
         }
         if (velocities && i < velocities->size() && lengthSquared<3>((*velocities)[i]) > 0) {
             s += ", \"velocity\": " + vec((*velocities)[i]);

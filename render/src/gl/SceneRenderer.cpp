@@ -315,6 +315,9 @@ void SceneRenderer::setObject(ObjectId id, const Shape<3>& shape) {
         // Rounded down: the mesh, inside the unit sphere, stays inside the ball (up to the centre's rounding).
         const float r = floatDown(ball->radius);
         inst.scale[0] = inst.scale[1] = inst.scale[2] = r;
+    } else if (const ConvexPolytope* poly = std::get_if<ConvexPolytope>(&s)) {
+        setPolytope(slot, added, *poly);
+        return;
     } else {
         const Box<3>& box = std::get<Box<3>>(s);
         info.kind = BoxKind;
@@ -328,6 +331,63 @@ void SceneRenderer::setObject(ObjectId id, const Shape<3>& shape) {
     }
     inst.offset[3] = inst.scale[3] = 0;
     updateExtent(inst);
+    markDirty(slot);
+}
+
+void SceneRenderer::setPolytope(std::uint32_t slot, bool added, const ConvexPolytope& poly) {
+    // The polytope's boundary triangles in a polygon slice (PolygonKind, one draw command each). A slice
+    // for V points holds 2V vertices and 12V - 12 indices; a triangulated convex polytope has 2V - 4
+    // triangles, 6V - 12 indices, so V points fit. Vertices are pulled towards the centroid by a relative
+    // 4e-7 of the polytope's reach before the float rounding (~6e-8 of it), so the drawn mesh lies inside
+    // the analytic shape; occluderInset's margin (1e-6 of the reach) covers the pull and the rounding.
+    const auto m = std::uint32_t(poly.vertices.size());
+    glm::dvec3 centroid(0.0);
+    for (const Vec3& v : poly.vertices) centroid += v;
+    centroid /= double(m);
+    std::vector<glm::dvec3> relative(m);
+    for (std::uint32_t i = 0; i < m; ++i) relative[i] = poly.vertices[i] - poly.vertices[0];
+    Slot& info = m_slots[slot];
+    auto it = info.kind == PolygonKind && !added ? m_polygons.find(slot) : m_polygons.end();
+    if (it != m_polygons.end() && it->second.polytopeKey != relative) it = m_polygons.end();
+    const glm::dvec3 first = centroid + (poly.vertices[0] - centroid) * (1.0 - 4e-7);
+    if (it == m_polygons.end()) {
+        releasePolygon(slot);
+        const PolygonSlice slice = allocatePolygon(std::max<std::uint32_t>(m, 2));
+        PolygonMesh pm;
+        pm.firstVertex = slice.firstVertex;
+        pm.capacity = slice.capacity;
+        pm.firstIndex = slice.firstIndex;
+        pm.points = slice.capacity;
+        pm.indexCount = std::uint32_t(3 * poly.triangles.size());
+        for (std::uint32_t i = 0; i < m; ++i) {
+            const glm::dvec3 v = centroid + (poly.vertices[i] - centroid) * (1.0 - 4e-7) - first;
+            m_polyPositions[pm.firstVertex + i] = glm::vec3(v);
+        }
+        for (std::size_t t = 0; t < poly.triangles.size(); ++t)
+            for (int k = 0; k < 3; ++k) m_polyIndices[pm.firstIndex + 3 * t + std::size_t(k)] = poly.triangles[t][std::size_t(k)];
+        // The drawn facets, from the float mesh (for drawnShapeContains and distanceToDrawn).
+        for (const auto& t : poly.triangles) {
+            const glm::dvec3 a(m_polyPositions[pm.firstVertex + t[0]]), b(m_polyPositions[pm.firstVertex + t[1]]),
+                c(m_polyPositions[pm.firstVertex + t[2]]);
+            const glm::dvec3 n = glm::cross(b - a, c - a);
+            const double len = glm::length(n);
+            if (len > 0) pm.planes.emplace_back(n / len, glm::dot(n / len, a));
+        }
+        pm.polytopeKey = std::move(relative);
+        it = m_polygons.emplace(slot, std::move(pm)).first;
+        m_dirtyPolygons.push_back(slot);
+        it->second.dirty = true;
+    }
+    info.kind = PolygonKind;
+    info.prism = false;
+    anchorAt(centroid);
+    Instance& inst = m_instances[slot];
+    for (int a = 0; a < 3; ++a) inst.offset[a] = float(first[a] - m_anchor[a]);
+    inst.scale[0] = inst.scale[1] = inst.scale[2] = 1;
+    inst.offset[3] = inst.scale[3] = 0;
+    double reach = 0;
+    for (const Vec3& v : poly.vertices) reach = std::max(reach, glm::length(v - poly.vertices[0]));
+    for (int a = 0; a < 3; ++a) m_extent = std::max(m_extent, std::abs(double(inst.offset[a])) + reach);
     markDirty(slot);
 }
 
@@ -397,6 +457,9 @@ void SceneRenderer::setPrism(ObjectId id, const Shape<2>& shape, double y0, doub
         }
         PolygonMesh& pm = it->second;
         pm.points = m;
+        pm.indexCount = 12 * m - 12;
+        pm.polytopeKey.clear();
+        pm.planes.clear();
         pm.relative = std::move(relative);
         std::copy(mesh.positions.begin(), mesh.positions.end(), m_polyPositions.begin() + pm.firstVertex);
         std::copy(mesh.indices.begin(), mesh.indices.end(), m_polyIndices.begin() + pm.firstIndex);
@@ -682,7 +745,7 @@ void SceneRenderer::drawSlots(DrawOutput output) {
         m_stats.objectsDrawn += list.size();
     }
     for (int k = 0; k < PolygonKind; ++k) m_stats.trianglesDrawn += m_drawList[k].size() * std::uint64_t(m_indexCount[k] / 3);
-    for (std::uint32_t slot : m_drawList[PolygonKind]) m_stats.trianglesDrawn += 4 * std::uint64_t(m_polygons.at(slot).points) - 4;
+    for (std::uint32_t slot : m_drawList[PolygonKind]) m_stats.trianglesDrawn += m_polygons.at(slot).indexCount / 3;
     m_stats.prismsDrawn += m_listPrisms;
 }
 
@@ -698,7 +761,7 @@ void SceneRenderer::drawLists() {
             m_commands.clear();
             for (std::size_t i = 0; i < list.size(); ++i) {
                 const PolygonMesh& pm = m_polygons.at(list[i]);
-                m_commands.push_back({12 * pm.points - 12, 1, pm.firstIndex, std::int32_t(pm.firstVertex),
+                m_commands.push_back({pm.indexCount, 1, pm.firstIndex, std::int32_t(pm.firstVertex),
                                       std::uint32_t(at / sizeof(std::uint32_t) + i)});
             }
             const std::size_t cmdAt = stream(m_commandRing, m_commands.data(), m_commands.size() * sizeof(DrawCommand), sizeof(std::uint32_t));
@@ -727,6 +790,12 @@ bool SceneRenderer::drawnShapeContains(ObjectId id, const Vec3& point, double to
     if (kind == BoxKind) {
         for (int a = 0; a < 3; ++a)
             if (!(p[a] >= o[a] - tolerance && p[a] <= o[a] + sc[a] + tolerance)) return false;
+        return true;
+    }
+    if (kind == PolygonKind && !m_polygons.at(slot).planes.empty()) { // a polytope
+        const glm::dvec3 q = p - o;
+        for (const glm::dvec4& pl : m_polygons.at(slot).planes)
+            if (!(glm::dot(glm::dvec3(pl), q) <= pl.w + tolerance)) return false;
         return true;
     }
     if (kind == CircleKind || kind == PolygonKind) {
@@ -778,6 +847,11 @@ double SceneRenderer::distanceToDrawn(ObjectId id, const Vec3& point) const {
     const glm::dvec3 o(inst.offset[0], inst.offset[1], inst.offset[2]), sc(inst.scale[0], inst.scale[1], inst.scale[2]);
     const Kind kind = m_slots[slot].kind;
     if (kind == BoxKind) return glm::length(p - glm::clamp(p, o, o + sc));
+    if (kind == PolygonKind && !m_polygons.at(slot).planes.empty()) { // a polytope: its largest plane excess, a lower bound
+        double d = 0;
+        for (const glm::dvec4& pl : m_polygons.at(slot).planes) d = std::max(d, glm::dot(glm::dvec3(pl), p - o) - pl.w);
+        return d;
+    }
     if (kind == CircleKind || kind == PolygonKind) {
         // The prism lies in (its y slab) x (the circle, or each edge's half-plane): the distance to that
         // set is a lower bound.

@@ -23,14 +23,15 @@
 //     |c| sin θ (|c| cos θ / sqrt(...) - 1) >= 0 when |c| > ρ), and {angle <= β} is a convex cone, so
 //     the largest angle over the pixel is at a corner. For a box the entry distance is a maximum of
 //     h |x| / (n.x) over its near planes, each quasi-convex on the image plane (its sublevel sets are
-//     second-order cones), so again the maximum is at a corner.
+//     second-order cones), so again the maximum is at a corner. A convex polytope (hull, oriented box) is
+//     the same with any number of planes (drawPolytope).
 //   So depth(P) = min over occluders covering P of max over P's corners of the entry distance.
 // Occludees. An object is hidden when every pixel its image can touch has depth(P) < its nearest
 // distance from the camera: every ray towards one of its points then passes through an occluder's
 // interior before reaching it, so the open segment to that point meets that interior (the contract's
 // definition of hidden). The image's pixels are bounded by an outer rectangle: exact tangent lines
 // for a sphere entirely in front of the camera, the projected corners for a box entirely in front,
-// and the whole image otherwise.
+// and the whole image otherwise. A polytope is tested as its bounding box (which contains it).
 //
 // Order. Testing objects nearest first and drawing each one that stays is the same as drawing all
 // before testing: an object can only be hidden by pixels whose depth is below its nearest distance,
@@ -151,6 +152,10 @@ private:
     /// the occluder's interior.
     /// onPartial(i, j, corners) is called for the pixels some but not all of whose corner rays pass through
     /// the occluder's interior, with a bit per such corner, when `partials` (a null type for none: spheres).
+    /// draw() for a convex polytope: the slab test over its planes (OcclusionBuffer3D.cpp).
+    void drawPolytope(const ConvexPolytope& p, double shrink);
+    std::vector<Vec3> m_planeN;   // drawPolytope's apex-relative planes (kept: no allocation per draw)
+    std::vector<double> m_planeC;
     template <class FillRow, class OnPartial>
     void drawRect(const PixelRect& r, FillRow&& fillRow, OnPartial&& onPartial, bool partials = false);
 

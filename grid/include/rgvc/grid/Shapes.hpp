@@ -1,11 +1,17 @@
-// Object shapes: balls (circle in 2D, sphere in 3D), axis-aligned boxes and, in 2D, convex polygons.
+// Object shapes: balls (circle in 2D, sphere in 3D), axis-aligned boxes, in 2D convex polygons and in
+// 3D convex polytopes (hulls of points and oriented boxes, ConvexPolytope.hpp).
 //
 // Shapes are closed sets. They are given in world units at the API boundary and converted once to
 // voxel units (`toLocal`) before rasterization. §5.1 of the paper reduces any other 3D shape to an
 // inner and an outer simplified model; a new shape joins by adding a variant alternative with its
 // `innerVoxels`/`touchedVoxels` rasterizers (see ConservativeRaster.hpp).
+//
+// Adding an alternative: every visit below ends in `static_assert(kUnhandledShape<T>)`, so the compiler
+// lists each dispatch point that does not know the new shape yet (also in ConservativeRaster.hpp,
+// OcclusionBuffer3D.cpp and the GL stage).
 #pragma once
 
+#include "rgvc/grid/ConvexPolytope.hpp"
 #include "rgvc/grid/Error.hpp"
 #include "rgvc/grid/GridGeometry.hpp"
 #include "rgvc/grid/Math.hpp"
@@ -38,9 +44,13 @@ struct ConvexPolygon {
 
 template <int D> struct ShapeTypes;
 template <> struct ShapeTypes<2> { using type = std::variant<Ball<2>, Box<2>, ConvexPolygon>; };
-template <> struct ShapeTypes<3> { using type = std::variant<Ball<3>, Box<3>>; };
+template <> struct ShapeTypes<3> { using type = std::variant<Ball<3>, Box<3>, ConvexPolytope>; };
 /// Any shape of a D-dimensional scene.
 template <int D> using Shape = typename ShapeTypes<D>::type;
+
+/// False for every type: ends an `if constexpr` chain over the alternatives, so that a shape added to
+/// the variant without a branch is a compile error at that dispatch point, not a silent fall-through.
+template <class T> inline constexpr bool kUnhandledShape = false;
 
 // ---------------------------------------------------------------------------------------------------
 // Free functions on shapes.
@@ -55,6 +65,8 @@ inline Box<2> boundsOf(const ConvexPolygon& p) {
     }
     return r;
 }
+/// The exact bounding box of the points the polytope was built from.
+inline Box<3> boundsOf(const ConvexPolytope& p) { return {p.boundsMin, p.boundsMax}; }
 template <int D> inline Box<D> boundsOf(const Shape<D>& s) {
     return std::visit([](const auto& x) { return boundsOf(x); }, s);
 }
@@ -71,6 +83,12 @@ inline Ball<2> boundingBall(const ConvexPolygon& p) {
     for (const Vec2& q : p.points) r.radius = std::max(r.radius, std::sqrt(lengthSquared<2>(q - r.center)));
     return r;
 }
+inline Ball<3> boundingBall(const ConvexPolytope& p) {
+    Ball<3> r{0.5 * (p.boundsMin + p.boundsMax), 0.0};
+    for (const Vec3& q : p.vertices) r.radius = std::max(r.radius, std::sqrt(lengthSquared<3>(q - r.center)));
+    r.radius += p.tolerance;
+    return r;
+}
 template <int D> inline Ball<D> boundingBall(const Shape<D>& s) {
     return std::visit([](const auto& x) { return boundingBall(x); }, s);
 }
@@ -82,6 +100,7 @@ inline ConvexPolygon translated(const ConvexPolygon& p, const Vec2& t) {
     for (Vec2& q : r.points) q += t;
     return r;
 }
+inline ConvexPolytope translated(const ConvexPolytope& p, const Vec3& t) { return translatedPolytope(p, t); }
 template <int D> inline Shape<D> translated(const Shape<D>& s, const Vec<D>& t) {
     return std::visit([&](const auto& x) -> Shape<D> { return translated(x, t); }, s);
 }
@@ -95,11 +114,16 @@ template <int D> inline Shape<D> toLocal(const Shape<D>& s, const GridGeometry<D
                 return Ball<D>{grid.toLocal(x.center), grid.toLocalLength(x.radius)};
             } else if constexpr (std::is_same_v<T, Box<D>>) {
                 return Box<D>{grid.toLocal(x.min), grid.toLocal(x.max)};
-            } else {
-                T r; // ConvexPolygon; spelled T so that the 3D instantiation of this branch still parses
+            } else if constexpr (std::is_same_v<T, ConvexPolygon>) {
+                T r;
                 r.points.reserve(x.points.size());
                 for (const auto& q : x.points) r.points.push_back(grid.toLocal(q));
                 return r;
+            } else if constexpr (std::is_same_v<T, ConvexPolytope>) {
+                // The same map as GridGeometry::toLocal: (x - origin) / voxel size.
+                return scaledPolytope(x, grid.origin(), grid.toLocalLength(1.0));
+            } else {
+                static_assert(kUnhandledShape<T>);
             }
         },
         s);
@@ -141,7 +165,9 @@ template <int D, class Field> inline void validateShape(Shape<D>& s, const Field
                 for (int i = 0; i < D; ++i)
                     if (!(x.min[i] < x.max[i]))
                         throw InvalidInput(shape_detail::fieldText(field) + ".max", "must exceed min on every axis");
-            } else {
+            } else if constexpr (std::is_same_v<T, ConvexPolytope>) {
+                validatePolytope(x, shape_detail::fieldText(field));
+            } else if constexpr (std::is_same_v<T, ConvexPolygon>) {
                 const std::size_t n = x.points.size();
                 if (n < 3) throw InvalidInput(shape_detail::fieldText(field) + ".points", "a polygon needs at least 3 points");
                 for (const Vec2& q : x.points)
@@ -182,6 +208,8 @@ template <int D, class Field> inline void validateShape(Shape<D>& s, const Field
                 if (turning > 2 * 3.141592653589793 + 1e-6)
                     throw InvalidInput(shape_detail::fieldText(field) + ".points", "polygon is self-intersecting");
                 x.points = std::move(ccw);
+            } else {
+                static_assert(kUnhandledShape<T>);
             }
         },
         s);
@@ -194,7 +222,8 @@ template <int D, class Field> inline void validateShape(Shape<D>& s, const Field
 /// inside that ball are covered by the mesh and O never hides what the mesh lets through.
 /// Ball: radius - d. Box: every face moved in by d. Convex polygon (counter-clockwise, as validateShape
 /// leaves it): the original clipped by every edge's half-plane moved in by d (Sutherland-Hodgman), so
-/// edges that vanish are dropped exactly.
+/// edges that vanish are dropped exactly. Convex polytope: every plane moved in by d, its vertices
+/// recomputed (erodePolytope).
 /// [Units] d in the shape's units. [Limit] d finite, >= 0.
 /// @return false when nothing is left (the shape then occludes nothing); `out` is only written on true.
 template <int D> inline bool insetShape(const Shape<D>& s, double d, Shape<D>& out) {
@@ -215,7 +244,12 @@ template <int D> inline bool insetShape(const Shape<D>& s, double d, Shape<D>& o
                     if (!(b.min[a] < b.max[a])) return false;
                 out = b;
                 return true;
-            } else {
+            } else if constexpr (std::is_same_v<T, ConvexPolytope>) {
+                ConvexPolytope r;
+                if (!erodePolytope(x, d, r)) return false;
+                out = std::move(r);
+                return true;
+            } else if constexpr (std::is_same_v<T, ConvexPolygon>) {
                 const std::size_t n = x.points.size();
                 std::vector<Vec2> poly = x.points, next;
                 for (std::size_t i = 0; i < n && poly.size() >= 3; ++i) {
@@ -238,6 +272,8 @@ template <int D> inline bool insetShape(const Shape<D>& s, double d, Shape<D>& o
                 r.points = std::move(poly);
                 out = r;
                 return true;
+            } else {
+                static_assert(kUnhandledShape<T>);
             }
         },
         s);

@@ -14,6 +14,7 @@
 #pragma once
 
 #include "rgvc/grid/Math.hpp"
+#include "rgvc/grid/PolytopeRaster.hpp"
 #include "rgvc/grid/Shapes.hpp"
 
 #include <algorithm>
@@ -258,6 +259,38 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, RowFn&& rowFn, double 
                         return true;
                     },
                     rowFn);
+            } else if constexpr (std::is_same_v<T, ConvexPolytope>) {
+                // PolytopeRaster.hpp derives both rules.
+                forEachRow<3>(
+                    lo, hi,
+                    [&](const IVec3& row, std::int32_t& a, std::int32_t& b) {
+                        double xl, xr;
+                        if constexpr (kInner) {
+                            const double snap = 2 * kConservativeSlack - slack; // as innerRange snaps faces
+                            const double grow = snap - s.tolerance;
+                            xl = -std::numeric_limits<double>::infinity();
+                            xr = -xl;
+                            for (double y : {double(row.y), row.y + 1.0})
+                                for (double z : {double(row.z), row.z + 1.0}) {
+                                    double l, r;
+                                    if (!polytopeChord(s, y, z, grow, l, r)) return false;
+                                    xl = std::max(xl, l);
+                                    xr = std::min(xr, r);
+                                }
+                            if (!(xl <= xr)) return false;
+                            innerRange(xl, xr, res.x, a, b, slack);
+                        } else {
+                            const double g = slack + s.tolerance;
+                            if (!polytopeSlabExtent(s, row.y - g, row.y + 1.0 + g, row.z - g, row.z + 1.0 + g, g, xl, xr))
+                                return false;
+                            const double rounding = 1e-12 * (std::abs(xl) + std::abs(xr));
+                            touchedRange(xl - rounding - s.tolerance, xr + rounding + s.tolerance, res.x, a, b, slack);
+                        }
+                        return true;
+                    },
+                    rowFn);
+            } else if constexpr (!std::is_same_v<T, ConvexPolygon>) {
+                static_assert(kUnhandledShape<T>);
             }
         },
         local);

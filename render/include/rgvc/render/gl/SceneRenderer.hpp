@@ -108,7 +108,9 @@ public:
     SceneRenderer(const SceneRenderer&) = delete;
     SceneRenderer& operator=(const SceneRenderer&) = delete;
 
-    /// Adds object `id` with `shape` ([World units]; a Ball<3> or a Box<3>), or moves it (or changes its
+    /// Adds object `id` with `shape` ([World units]; a Ball<3>, a Box<3> or a ConvexPolytope: an obb or hull,
+    /// drawn as its boundary triangles shrunk towards their centroid by 4e-7 of its size, so that the
+    /// float mesh lies inside the analytic shape and contains it shrunk by occluderInset), or moves it (or changes its
     /// shape) when it is already there. The GPU copy is updated at the next draw. O(1).
     /// @throws InvalidInput for an invalid shape (validateShape); the renderer is unchanged.
     void setObject(ObjectId id, const Shape<3>& shape);
@@ -215,6 +217,11 @@ private:
         std::vector<glm::dvec2> relative;            // the points given, minus the first (for "same shape?")
         std::vector<glm::dvec2> drawn;               // the float mesh points (x, z), as doubles
         std::vector<glm::dvec3> edges;               // drawn edge lines: unit outward normal (x, z), offset
+        /// Indices drawn: 12 points - 12 for a prism; 3 per triangle for a polytope (whose mesh is its
+        /// boundary triangles, vertices relative to the first one, in the same kind of slice).
+        std::uint32_t indexCount = 0;
+        std::vector<glm::dvec4> planes;              // polytopes: the drawn facets (unit outward n, offset), mesh frame
+        std::vector<glm::dvec3> polytopeKey;         // polytopes: the vertices given, minus the first ("same shape?")
         bool dirty = false;                          // in m_dirtyPolygons, not uploaded yet
     };
     struct PolygonSlice {
@@ -239,6 +246,8 @@ private:
     void updateExtent(const Instance& inst);
     /// Frees the polygon mesh of `slot`, if it has one.
     void releasePolygon(std::uint32_t slot);
+    /// setObject for a convex polytope (obb, hull): its triangles in a polygon slice.
+    void setPolytope(std::uint32_t slot, bool added, const ConvexPolytope& poly);
     PolygonSlice allocatePolygon(std::uint32_t points);
     void uploadPolygons();
     void uploadDirty();
