@@ -562,7 +562,7 @@ TEST_CASE("makeConvexHull and makeOrientedBox: bad input is a clear InvalidInput
     fails(obb({0, 0, 0}, {1, 0, 1}, {0, 0, 0, 1}), "o.half_extents", "> 0");
     fails(obb({0, 0, 0}, {1, -2, 1}, {0, 0, 0, 1}), "o.half_extents", "> 0");
     fails(obb({0, inf, 0}, {1, 1, 1}, {0, 0, 0, 1}), "o.center", "finite");
-    fails(obb({0, 0, 0}, {1e308, 1e308, 1}, {0, 0, 0.3826834323650898, 0.9238795325112867}), "o.half_extents", "overflow");
+    fails(obb({0, 0, 0}, {1.5e308, 1.5e308, 1}, {0, 0, 0.3826834323650898, 0.9238795325112867}), "o.half_extents", "overflow");
     // Within 1e-5 of unit: normalised.
     const ConvexPolytope ok = makeOrientedBox({0, 0, 0}, {1, 2, 3}, {0, 0, 0, 1.000009}, "o");
     CHECK(ok.boundsMax.z == Approx(3));
