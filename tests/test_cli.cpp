@@ -494,6 +494,41 @@ TEST_CASE("named scenes (scripts/make_scenes.py): rgvc cull accepts each, and ev
     }
 }
 
+TEST_CASE("scenes/polytopes-3d.json (turned walls, hull rocks, moving obb crates): no object the reference sees is missed", "[cli][polytope]") {
+    const std::string path = scenePath("polytopes-3d.json");
+    const std::size_t frames = 40;
+    Run r = runRgvc("cull " + quote(path) + " --frames " + std::to_string(frames));
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    const std::vector<json> lines = r.lines();
+    checkLines(lines, frames);
+    const rgvc::Scene scene = rgvc::loadScene(path);
+    const rgvc::SceneData3& d = *scene.as<3>();
+    rgvc::SceneSimulator3 sim(d);
+    std::size_t visibleTotal = 0, pvsTotal = 0, inViewTotal = 0;
+    for (std::size_t t = 0; t < frames; ++t) {
+        if (t > 0) sim.step();
+        const rgvc::Camera3 cam = d.cameraAt(t);
+        std::vector<rgvc::Shape<3>> all;
+        for (std::size_t i = 0; i < sim.size(); ++i) all.push_back(sim.shapeAt(i));
+        const std::vector<bool> vis = rgvc::reference::visible3D(all, cam), inView = rgvc::reference::inViewRegion3D(all, cam);
+        const std::vector<rgvc::ObjectId> pvs = lines[t]["pvs"].get<std::vector<rgvc::ObjectId>>();
+        std::vector<rgvc::ObjectId> missed;
+        for (std::size_t k = 0; k < all.size(); ++k) {
+            visibleTotal += vis[k];
+            inViewTotal += inView[k];
+            if (vis[k] && !std::binary_search(pvs.begin(), pvs.end(), sim.idAt(k))) missed.push_back(sim.idAt(k));
+        }
+        pvsTotal += pvs.size();
+        INFO("frame " << t << ": missed " << json(missed).dump());
+        CHECK(missed.empty());
+    }
+    std::printf("polytopes-3d.json, %zu frames: visible %zu, PVS %zu, in the view region %zu\n", frames, visibleTotal, pvsTotal, inViewTotal);
+    CHECK(visibleTotal > 0);
+    // The walls hide: the PVS is well below the view region's set.
+    CHECK(pvsTotal * 10 < inViewTotal * 8);
+}
+
 TEST_CASE("cameras and objects outside the grid are legal", "[cli]") {
     json j = goodScene();
     j["camera"]["position"] = {-20.5, 30};
@@ -580,5 +615,34 @@ TEST_CASE("cull --gl: the GL stage's pvs holds every object the item buffer of a
     checkRejected(runRgvc("cull " + quote(path) + " --gl --gl-size 20000x10"), "rgvc cull: --gl-size");
     checkRejected(runRgvc("cull " + quote(scenePath("fig1-2d.json")) + " --gl"), "rgvc cull: --gl: ");
     checkRejected(runRgvc("cull " + quote(path) + " --gl --gl-method nope"), "rgvc cull: --gl-method");
+}
+
+TEST_CASE("cull --gl on obbs and hulls: every object the item buffer shows is in the GL stage's pvs", "[cli][gl][polytope]") {
+    const std::string path = scenePath("polytopes-3d.json");
+    rgvc::Scene scene = rgvc::loadScene(path);
+    const rgvc::SceneData3& data = *scene.as<3>();
+    const int w = 96, h = 64;
+    const std::size_t frames = 8;
+    auto context = rgvc::createOsMesaContext(w, h);
+    rgvc::SceneRenderer renderer(*context);
+    Run r = runRgvc("cull " + quote(path) + " --gl --gl-size 96x64 --frames " + std::to_string(frames));
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    const std::vector<json> lines = r.lines();
+    checkLines(lines, frames);
+    rgvc::SceneSimulator3 sim(data);
+    std::size_t shown = 0;
+    for (std::size_t t = 0; t < frames; ++t) {
+        if (t > 0) sim.step();
+        for (std::size_t i = 0; i < sim.size(); ++i) renderer.setObject(sim.idAt(i), sim.shapeAt(i));
+        const rgvc::ItemBufferImage img = rgvc::itemBuffer(renderer, data.cameraAt(t), w, h);
+        const std::vector<rgvc::ObjectId> pvs = lines[t]["pvs"].get<std::vector<rgvc::ObjectId>>();
+        shown += img.visible.size();
+        for (rgvc::ObjectId id : img.visible) {
+            INFO("frame " << t << ", object " << id << " shows in the item buffer");
+            CHECK(std::binary_search(pvs.begin(), pvs.end(), id));
+        }
+    }
+    CHECK(shown > 0);
 }
 #endif
