@@ -928,3 +928,33 @@ TEST_CASE("Polytopes: the drawn obbs and hulls match their shapes pixel by pixel
     s.renderer.setObject(1, makeOrientedBox({0, 0, 10}, {1, 1, 1}, {0, 0, 0, 1}, "obb")); // behind the camera
     CHECK(itemBuffer(s.renderer, frontCamera(), kWidth, kHeight).visible.empty());
 }
+
+TEST_CASE("Polytopes: the drawn mesh lies inside the shape and contains it shrunk by occluderInset, far from the anchor too", "[gl][polytope]") {
+    std::unique_ptr<GlContext> context = createOsMesaContext(16, 16);
+    SceneRenderer renderer(*context);
+    renderer.setObject(1, Ball<3>{{0, 0, 0}, 1}); // the anchor: the first object's centre
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int k = 0; k < 40; ++k) {
+        const double far = k < 20 ? 10.0 : 2e4; // float rounding of the offset: ~1e-3 at 2e4
+        const Vec3 c(far * u(rng), far * u(rng), far * u(rng));
+        std::array<double, 4> q{u(rng), u(rng), u(rng), u(rng)};
+        const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+        for (double& x : q) x /= n;
+        const ConvexPolytope p = k % 2 ? makeOrientedBox(c, {2, 0.5 + std::abs(u(rng)), 1}, q, "obb")
+                                       : makeConvexHull(std::vector<Vec3>{c, c + Vec3(2, 0, 0), c + Vec3(0, 1.5, 0), c + Vec3(0.3, 0.2, 1), c + Vec3(1, 1, 1)}, "hull");
+        const ObjectId id = ObjectId(k + 2);
+        renderer.setObject(id, p);
+        INFO("polytope " << k << " at " << far);
+        // Inside the shape: every vertex pushed out by a hair is outside the drawn mesh.
+        Vec3 centroid(0.0);
+        for (const Vec3& v : p.vertices) centroid += v / double(p.vertices.size());
+        for (const Vec3& v : p.vertices) CHECK_FALSE(renderer.drawnShapeContains(id, v + 1e-9 * far * (v - centroid)));
+        // Containing the inset shape: its vertices are in the drawn mesh.
+        const double inset = renderer.occluderInset(p);
+        CHECK(inset > 0);
+        Shape<3> inner;
+        REQUIRE(insetShape<3>(p, inset, inner));
+        for (const Vec3& v : std::get<ConvexPolytope>(inner).vertices) CHECK(renderer.drawnShapeContains(id, v));
+    }
+}

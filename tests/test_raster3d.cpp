@@ -150,7 +150,10 @@ std::array<double, 4> randomQuaternion(Gen& g) {
     double n2 = 0;
     do {
         n2 = 0;
-        for (double& c : r) n2 += (c = g.uni(-1, 1)) * c;
+        for (double& c : r) {
+            c = g.uni(-1, 1);
+            n2 += c * c;
+        }
     } while (n2 < 0.01 || n2 > 1);
     for (double& c : r) c /= std::sqrt(n2);
     return r;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <variant>
 
 namespace rgvc {
 
@@ -26,13 +27,14 @@ template <int D> template <class View> void Culler<D>::Impl::refineWithBuffer(co
             if (r.state != State::Tracked && r.state != State::Static) continue;
             const double slack = grid.conversionSlack(r.at.worldMagnitude) + view.slack();
             bufferOrder.push_back({occlusionBuffer.nearestDistance(r.at.local, slack), std::uint32_t(bufferShapes.size())});
-            bufferShapes.push_back({r.at.local, r.at.occluder(), slack, slot});
+            const bool small = std::holds_alternative<Ball<D>>(r.at.local) || std::holds_alternative<Box<D>>(r.at.local);
+            bufferShapes.push_back({small ? r.at.local : Shape<D>{}, small ? nullptr : &r.at.local, r.at.occluder(), slack, slot});
         }
         std::sort(bufferOrder.begin(), bufferOrder.end());
         std::uint32_t removed = 0;
         for (const auto& [distance, index] : bufferOrder) {
             const BufferShape& b = bufferShapes[index];
-            if (occlusionBuffer.hidden(b.shape, b.slack, distance)) {
+            if (occlusionBuffer.hidden(b.shape(), b.slack, distance)) {
                 pvsStamp[b.slot] = 0; // marks it for removal below; the grid's verdict (lastPvsFrame) stays
                 ++removed;
             } else if (b.occluder != nullptr) {

@@ -113,8 +113,13 @@ template <int D> struct Culler<D>::Impl {
     // The grid PVS's slots in the order added, and the occlusion buffer that refines it (3D).
     std::vector<ObjectSlot> pvsSlots;
     struct BufferShape {
-        Shape<D> shape;            // voxel units
+        // Voxel units. Balls and boxes are copied (the sort's pass then reads no record); a shape that
+        // owns memory (a polytope) is not, to allocate nothing per object and frame: `large` points at it
+        // in its record, which no step of the pass changes.
+        Shape<D> small;
+        const Shape<D>* large;
         const Shape<D>* occluder;  // its occluder model (in records; null: occludes nothing)
+        const Shape<D>& shape() const { return large != nullptr ? *large : small; }
         double slack;              // conversion slack of the object and the camera
         ObjectSlot slot;
     };

@@ -12,7 +12,9 @@
 //      facets it sees by more than eps = 1e-13 of the extent and closes the hole with a fan of triangles
 //      from its horizon; points seeing no facet are inside (or within eps of the boundary) and are dropped;
 //   3. the result is checked: a closed 2-manifold (every directed edge has its twin) with Euler
-//      characteristic 2; numerically hopeless input (which eps protects against) gets a clear error.
+//      characteristic 2; if it is not (near-duplicate points, points within rounding of a facet: the
+//      cut points of an erosion), 2-3 run again with eps 1e-11 and 1e-9 of the extent, and input that
+//      still fails gets a clear error.
 // Coordinates are shifted to the bounding box's centre first, so that rounding is relative to the
 // hull's extent, not to its distance from the origin.
 //
@@ -26,6 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <unordered_map>
@@ -115,7 +118,7 @@ ConvexPolytope makeConvexHull(std::span<const Vec3> points, const std::string& f
     if (!(extent < 1e150)) throw InvalidInput(field, "the points' extent " + fmt(extent) + " overflows the hull's arithmetic");
     std::vector<Vec3> q(n);
     for (std::size_t i = 0; i < n; ++i) q[i] = points[i] - centre;
-    const double eps = 1e-13 * extent, flat = 1e-9 * extent;
+    const double flat = 1e-9 * extent;
 
     // 1. The initial tetrahedron: the farthest pair among the axis extremes, the point farthest from their
     //    line, the point farthest from their plane.
@@ -149,103 +152,116 @@ ConvexPolytope makeConvexHull(std::span<const Vec3> points, const std::string& f
     }
     if (!(best > flat)) throw InvalidInput(field, "all points lie in one plane (within 1e-9 of their extent): the hull has no volume");
 
-    std::vector<Face> faces;
-    std::unordered_map<std::uint64_t, std::uint32_t> edgeFace; // directed edge -> alive face holding it
-    bool broken = false;
-    const Vec3 inner = 0.25 * (q[i0] + q[i1] + q[i2] + q[i3]); // stays inside every later hull
-    auto addFace = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        Face f;
-        Vec3 nn = glm::cross(q[b] - q[a], q[c] - q[a]);
-        if (glm::dot(nn, inner - q[a]) > 0) {
-            std::swap(b, c);
-            nn = -nn;
-        }
-        f.v[0] = a, f.v[1] = b, f.v[2] = c;
-        const double len = std::sqrt(lengthSquared<3>(nn));
-        f.n = len > 0 ? nn / len : Vec3(0.0);
-        if (!(len > 0)) broken = true;
-        f.off = glm::dot(f.n, q[a]);
-        const std::uint32_t id = std::uint32_t(faces.size());
-        for (int k = 0; k < 3; ++k)
-            if (!edgeFace.emplace(edgeKey(f.v[k], f.v[(k + 1) % 3]), id).second) broken = true;
-        faces.push_back(f);
-    };
-    addFace(i0, i1, i2);
-    addFace(i0, i1, i3);
-    addFace(i0, i2, i3);
-    addFace(i1, i2, i3);
-
-    // 2. The other points in a fixed pseudo-random order.
-    std::vector<std::uint32_t> order;
-    order.reserve(n);
-    for (std::uint32_t i = 0; i < n; ++i)
-        if (i != i0 && i != i1 && i != i2 && i != i3) order.push_back(i);
-    std::uint64_t state = 0x9E3779B97F4A7C15ULL;
-    for (std::size_t k = order.size(); k > 1; --k) {
-        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-        std::swap(order[k - 1], order[std::size_t((state >> 33) % k)]);
-    }
-    std::vector<std::uint32_t> alive = {0, 1, 2, 3}, visible, next;
-    std::vector<std::array<std::uint32_t, 2>> horizon;
-    std::vector<std::uint64_t> seenStamp(4, 0);
-    std::uint64_t stamp = 0;
-    for (std::uint32_t pi : order) {
-        const Vec3& p = q[pi];
-        visible.clear();
-        ++stamp;
-        for (std::uint32_t f : alive)
-            if (glm::dot(faces[f].n, p) - faces[f].off > eps) {
-                visible.push_back(f);
-                seenStamp[f] = stamp;
-            }
-        if (visible.empty()) continue;
-        horizon.clear();
-        for (std::uint32_t f : visible)
-            for (int k = 0; k < 3; ++k) {
-                const std::uint32_t a = faces[f].v[k], b = faces[f].v[(k + 1) % 3];
-                auto it = edgeFace.find(edgeKey(b, a));
-                if (it == edgeFace.end()) {
-                    broken = true;
-                    continue;
-                }
-                if (seenStamp[it->second] != stamp) horizon.push_back({a, b});
-            }
-        for (std::uint32_t f : visible) {
-            faces[f].alive = false;
-            for (int k = 0; k < 3; ++k) edgeFace.erase(edgeKey(faces[f].v[k], faces[f].v[(k + 1) % 3]));
-        }
-        for (const auto& e : horizon) addFace(e[0], e[1], pi);
-        seenStamp.resize(faces.size(), 0);
-        next.clear();
-        for (std::uint32_t f : alive)
-            if (faces[f].alive) next.push_back(f);
-        for (std::uint32_t f = std::uint32_t(faces.size() - horizon.size()); f < faces.size(); ++f) next.push_back(f);
-        alive.swap(next);
-        if (broken) break;
-    }
-
-    // 3. Closed 2-manifold with V - E + F = 2.
-    std::vector<std::int64_t> remap(n, -1);
+    // 2.-3. as one attempt with a given epsilon; nearly degenerate input (near-duplicate points, points
+    // almost on a facet) that breaks the manifold check is retried with a 100x and a 10,000x larger one
+    // (the support offsets and the tolerance below stay exact whatever epsilon dropped).
     ConvexPolytope out;
     std::vector<Vec3> normals;
-    for (std::uint32_t f : alive) {
-        std::array<std::uint32_t, 3> t{};
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t v = faces[f].v[k];
-            if (remap[v] < 0) {
-                remap[v] = std::int64_t(out.vertices.size());
-                out.vertices.push_back(points[v]);
+    auto attempt = [&](double eps) -> bool {
+        std::vector<Face> faces;
+        std::unordered_map<std::uint64_t, std::uint32_t> edgeFace; // directed edge -> alive face holding it
+        bool broken = false;
+        const Vec3 inner = 0.25 * (q[i0] + q[i1] + q[i2] + q[i3]); // stays inside every later hull
+        auto addFace = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+            Face f;
+            Vec3 nn = glm::cross(q[b] - q[a], q[c] - q[a]);
+            if (glm::dot(nn, inner - q[a]) > 0) {
+                std::swap(b, c);
+                nn = -nn;
             }
-            t[std::size_t(k)] = std::uint32_t(remap[v]);
-            if (edgeFace.find(edgeKey(faces[f].v[(k + 1) % 3], v)) == edgeFace.end()) broken = true;
+            f.v[0] = a, f.v[1] = b, f.v[2] = c;
+            const double len = std::sqrt(lengthSquared<3>(nn));
+            f.n = len > 0 ? nn / len : Vec3(0.0);
+            if (!(len > 0)) broken = true;
+            f.off = glm::dot(f.n, q[a]);
+            const std::uint32_t id = std::uint32_t(faces.size());
+            for (int k = 0; k < 3; ++k)
+                if (!edgeFace.emplace(edgeKey(f.v[k], f.v[(k + 1) % 3]), id).second) broken = true;
+            faces.push_back(f);
+        };
+        addFace(i0, i1, i2);
+        addFace(i0, i1, i3);
+        addFace(i0, i2, i3);
+        addFace(i1, i2, i3);
+
+        // 2. The other points in a fixed pseudo-random order.
+        std::vector<std::uint32_t> order;
+        order.reserve(n);
+        for (std::uint32_t i = 0; i < n; ++i)
+            if (i != i0 && i != i1 && i != i2 && i != i3) order.push_back(i);
+        std::uint64_t state = 0x9E3779B97F4A7C15ULL;
+        for (std::size_t k = order.size(); k > 1; --k) {
+            state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+            std::swap(order[k - 1], order[std::size_t((state >> 33) % k)]);
         }
-        out.triangles.push_back(t);
-        normals.push_back(faces[f].n);
+        std::vector<std::uint32_t> alive = {0, 1, 2, 3}, visible, next;
+        std::vector<std::array<std::uint32_t, 2>> horizon;
+        std::vector<std::uint64_t> seenStamp(4, 0);
+        std::uint64_t stamp = 0;
+        for (std::uint32_t pi : order) {
+            const Vec3& p = q[pi];
+            visible.clear();
+            ++stamp;
+            for (std::uint32_t f : alive)
+                if (glm::dot(faces[f].n, p) - faces[f].off > eps) {
+                    visible.push_back(f);
+                    seenStamp[f] = stamp;
+                }
+            if (visible.empty()) continue;
+            horizon.clear();
+            for (std::uint32_t f : visible)
+                for (int k = 0; k < 3; ++k) {
+                    const std::uint32_t a = faces[f].v[k], b = faces[f].v[(k + 1) % 3];
+                    auto it = edgeFace.find(edgeKey(b, a));
+                    if (it == edgeFace.end()) {
+                        broken = true;
+                        continue;
+                    }
+                    if (seenStamp[it->second] != stamp) horizon.push_back({a, b});
+                }
+            for (std::uint32_t f : visible) {
+                faces[f].alive = false;
+                for (int k = 0; k < 3; ++k) edgeFace.erase(edgeKey(faces[f].v[k], faces[f].v[(k + 1) % 3]));
+            }
+            for (const auto& e : horizon) addFace(e[0], e[1], pi);
+            seenStamp.resize(faces.size(), 0);
+            next.clear();
+            for (std::uint32_t f : alive)
+                if (faces[f].alive) next.push_back(f);
+            for (std::uint32_t f = std::uint32_t(faces.size() - horizon.size()); f < faces.size(); ++f) next.push_back(f);
+            alive.swap(next);
+            if (broken) break;
+        }
+
+        // 3. Closed 2-manifold with V - E + F = 2.
+        std::vector<std::int64_t> remap(n, -1);
+        for (std::uint32_t f : alive) {
+            std::array<std::uint32_t, 3> t{};
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t v = faces[f].v[k];
+                if (remap[v] < 0) {
+                    remap[v] = std::int64_t(out.vertices.size());
+                    out.vertices.push_back(points[v]);
+                }
+                t[std::size_t(k)] = std::uint32_t(remap[v]);
+                if (edgeFace.find(edgeKey(faces[f].v[(k + 1) % 3], v)) == edgeFace.end()) broken = true;
+            }
+            out.triangles.push_back(t);
+            normals.push_back(faces[f].n);
+        }
+        const std::size_t V = out.vertices.size(), F = out.triangles.size();
+        return !(broken || F < 4 || F % 2 != 0 || V + F - 3 * F / 2 != 2);
+    };
+    bool ok = false;
+    for (double scale : {1e-13, 1e-11, 1e-9}) {
+        out = ConvexPolytope{};
+        normals.clear();
+        if ((ok = attempt(scale * extent))) break;
     }
-    const std::size_t V = out.vertices.size(), F = out.triangles.size();
-    if (broken || F < 4 || F % 2 != 0 || V + F - 3 * F / 2 != 2)
+    if (!ok)
         throw InvalidInput(field, "the hull of these points could not be computed robustly (nearly degenerate points); "
                                   "perturb or thin them");
+    const std::size_t F = out.triangles.size();
 
     // Support offsets over every input point; the tolerance from how far any point stuck out of the
     // vertices' own facets (a dropped point within eps of the boundary).

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <string>
 
 namespace rgvc {
@@ -334,22 +335,48 @@ void SceneRenderer::setObject(ObjectId id, const Shape<3>& shape) {
     markDirty(slot);
 }
 
+namespace {
+
+/// How a polytope is drawn: scaled about its vertices' centroid by 1 - pull before the float rounding.
+/// Scaling by k moves each facet plane in by (1 - k) h, h its distance from the centroid (>= hMin), and the
+/// rounding moves points by at most delta = 2^-23 (|first vertex - anchor| + reach) (the instance offset
+/// and the mesh positions are each rounded once, relative error 2^-24). pull = max(4e-7, 2 delta / hMin)
+/// keeps the drawn mesh inside the analytic shape; the mesh then contains the shape shrunk by
+/// pull * reach + delta (occluderInset adds that).
+struct PolytopeDraw {
+    glm::dvec3 centroid{0.0};
+    double pull = 0, reach = 0, delta = 0;
+};
+PolytopeDraw polytopeDraw(const ConvexPolytope& poly, const glm::dvec3& anchor) {
+    PolytopeDraw d;
+    for (const Vec3& v : poly.vertices) d.centroid += v;
+    d.centroid /= double(poly.vertices.size());
+    for (const Vec3& v : poly.vertices) d.reach = std::max(d.reach, glm::length(v - d.centroid));
+    double hMin = std::numeric_limits<double>::infinity();
+    for (const HalfSpace& h : poly.planes) hMin = std::min(hMin, h.offset - glm::dot(h.normal, d.centroid));
+    d.delta = 0x1p-23 * (glm::length(poly.vertices[0] - anchor) + 2 * d.reach);
+    d.pull = std::min(0.5, std::max(4e-7, hMin > 0 ? 2 * d.delta / hMin : 0.5));
+    return d;
+}
+
+} // namespace
+
 void SceneRenderer::setPolytope(std::uint32_t slot, bool added, const ConvexPolytope& poly) {
     // The polytope's boundary triangles in a polygon slice (PolygonKind, one draw command each). A slice
     // for V points holds 2V vertices and 12V - 12 indices; a triangulated convex polytope has 2V - 4
-    // triangles, 6V - 12 indices, so V points fit. Vertices are pulled towards the centroid by a relative
-    // 4e-7 of the polytope's reach before the float rounding (~6e-8 of it), so the drawn mesh lies inside
-    // the analytic shape; occluderInset's margin (1e-6 of the reach) covers the pull and the rounding.
+    // triangles, 6V - 12 indices, so V points fit. The vertices are pulled towards the centroid before
+    // the float rounding so that the drawn mesh lies inside the analytic shape (polytopeDraw).
     const auto m = std::uint32_t(poly.vertices.size());
-    glm::dvec3 centroid(0.0);
-    for (const Vec3& v : poly.vertices) centroid += v;
-    centroid /= double(m);
+    anchorAt(0.5 * (poly.boundsMin + poly.boundsMax));
+    const PolytopeDraw draw = polytopeDraw(poly, m_anchor);
+    const glm::dvec3 centroid = draw.centroid;
+    const double keep = 1.0 - draw.pull;
     std::vector<glm::dvec3> relative(m);
     for (std::uint32_t i = 0; i < m; ++i) relative[i] = poly.vertices[i] - poly.vertices[0];
     Slot& info = m_slots[slot];
     auto it = info.kind == PolygonKind && !added ? m_polygons.find(slot) : m_polygons.end();
     if (it != m_polygons.end() && it->second.polytopeKey != relative) it = m_polygons.end();
-    const glm::dvec3 first = centroid + (poly.vertices[0] - centroid) * (1.0 - 4e-7);
+    const glm::dvec3 first = centroid + (poly.vertices[0] - centroid) * keep;
     if (it == m_polygons.end()) {
         releasePolygon(slot);
         const PolygonSlice slice = allocatePolygon(std::max<std::uint32_t>(m, 2));
@@ -360,7 +387,7 @@ void SceneRenderer::setPolytope(std::uint32_t slot, bool added, const ConvexPoly
         pm.points = slice.capacity;
         pm.indexCount = std::uint32_t(3 * poly.triangles.size());
         for (std::uint32_t i = 0; i < m; ++i) {
-            const glm::dvec3 v = centroid + (poly.vertices[i] - centroid) * (1.0 - 4e-7) - first;
+            const glm::dvec3 v = centroid + (poly.vertices[i] - centroid) * keep - first;
             m_polyPositions[pm.firstVertex + i] = glm::vec3(v);
         }
         for (std::size_t t = 0; t < poly.triangles.size(); ++t)
@@ -380,7 +407,6 @@ void SceneRenderer::setPolytope(std::uint32_t slot, bool added, const ConvexPoly
     }
     info.kind = PolygonKind;
     info.prism = false;
-    anchorAt(centroid);
     Instance& inst = m_instances[slot];
     for (int a = 0; a < 3; ++a) inst.offset[a] = float(first[a] - m_anchor[a]);
     inst.scale[0] = inst.scale[1] = inst.scale[2] = 1;
@@ -827,6 +853,10 @@ double SceneRenderer::occluderInset(const Shape<3>& shape) const {
     const double reach = std::max(glm::length(b.min - anchor), glm::length(b.max - anchor)) + glm::length(b.max - b.min);
     const double margin = 1e-6 * reach;
     if (const Ball<3>* ball = std::get_if<Ball<3>>(&shape)) return ball->radius * (1.0 - m_options.sphere.inradius) + margin;
+    if (const ConvexPolytope* poly = std::get_if<ConvexPolytope>(&shape)) {
+        const PolytopeDraw d = polytopeDraw(*poly, anchor);
+        return d.pull * d.reach + 2 * d.delta + margin;
+    }
     return margin;
 }
 

@@ -109,8 +109,9 @@ public:
     SceneRenderer& operator=(const SceneRenderer&) = delete;
 
     /// Adds object `id` with `shape` ([World units]; a Ball<3>, a Box<3> or a ConvexPolytope: an obb or hull,
-    /// drawn as its boundary triangles shrunk towards their centroid by 4e-7 of its size, so that the
-    /// float mesh lies inside the analytic shape and contains it shrunk by occluderInset), or moves it (or changes its
+    /// drawn as its boundary triangles scaled towards their centroid by a little more than the float
+    /// rounding moves a facet, so that the mesh lies inside the analytic shape and contains it shrunk by
+    /// occluderInset), or moves it (or changes its
     /// shape) when it is already there. The GPU copy is updated at the next draw. O(1).
     /// @throws InvalidInput for an invalid shape (validateShape); the renderer is unchanged.
     void setObject(ObjectId id, const Shape<3>& shape);
