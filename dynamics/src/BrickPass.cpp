@@ -18,25 +18,27 @@ constexpr double kMinTraversalOccluderPixels = 16;
 /// in the PVS unless its bounds miss the view or the occlusion image hides it; a visible object is
 /// drawn into the image (shrunk by its conversion slack and the camera's), so it hides what follows.
 /// Sound whatever the order: every pixel depth in the image is a true bound when it is written.
-template <int D> template <class View> void Culler<D>::Impl::classify(ObjectSlot slot, const View& view) {
-    if (classifiedStamp[slot] == frame) return;
-    classifiedStamp[slot] = frame;
+template <int D>
+template <class S, class View>
+void Culler<D>::Impl::classify(ViewScratch<S>& vs, ObjectSlot slot, const View& view) {
+    if (vs.classifiedStamp[slot] == vs.stamp) return;
+    vs.classifiedStamp[slot] = vs.stamp;
     const Record& r = records[slot];
     if (r.state != State::Tracked && r.state != State::Static) {
-        addToPvs(slot); // parked: no placement to test
+        addToPvs(vs, slot); // parked: no placement to test
         return;
     }
     const double slack = grid.conversionSlack(r.at.worldMagnitude) + view.slack();
     const Box<D> b = r.at.localBounds;
     if (!view.touchesBox(b.min - slack, b.max + slack)) return;
     if constexpr (D == 3) {
-        const double nearest = imageActive ? traversalImage.nearestDistance(r.at.local, slack) : 0.0;
-        if (imageActive && traversalImage.hidden(r.at.local, slack, nearest)) {
-            ++result.stats.imageHidden;
+        const double nearest = vs.imageActive ? vs.traversalImage.nearestDistance(r.at.local, slack) : 0.0;
+        if (vs.imageActive && vs.traversalImage.hidden(r.at.local, slack, nearest)) {
+            ++vs.result.stats.imageHidden;
             return;
         }
 
-        addToPvs(slot);
+        addToPvs(vs, slot);
         // Drawn when it spans enough pixels: a smaller occluder hides little of a brick (the refinement
         // pass draws it). Spheres from 16 pixels across: spheres-3d.json took 8.7 ms per frame with a
         // threshold of 4 pixels, 7.5 ms with 16, 4.3 with 32 (|PVS| 192, 199, 210), the clusters scene of
@@ -48,14 +50,14 @@ template <int D> template <class View> void Culler<D>::Impl::classify(ObjectSlot
         bool polytope = false;
         if constexpr (D == 3) polytope = std::holds_alternative<ConvexPolytope>(r.at.local);
         const double minPixels = tiles || polytope ? 4.0 : kMinTraversalOccluderPixels;
-        if (imageActive && r.at.occludes && traversalImage.spans(boundingBall<D>(r.at.local).radius, nearest, minPixels))
-            traversalImage.draw(*r.at.occluder(), slack);
+        if (vs.imageActive && r.at.occludes && vs.traversalImage.spans(boundingBall<D>(r.at.local).radius, nearest, minPixels))
+            vs.traversalImage.draw(*r.at.occluder(), slack);
     } else {
-        addToPvs(slot);
+        addToPvs(vs, slot);
     }
 }
 
-template <int D> void Culler<D>::Impl::classify(ObjectSlot slot) { classify(slot, *currentView); }
+template <int D> void Culler<D>::Impl::classify(ObjectSlot slot) { classify(main, slot, *main.view); }
 
 /// CullerOptions::hierarchical: the brick-tree walk (BrickTraversal3D.hpp) with the occlusion image.
 /// Ids met in visited voxels are classified (classify); a TBV met in a visited voxel that the image
@@ -65,18 +67,22 @@ template <int D> void Culler<D>::Impl::classify(ObjectSlot slot) { classify(slot
 /// voxel of y (a boundary voxel: T holds it) touches the view, lies in a brick the tree visits (every
 /// node holding y is occupied, touches the view and is not hidden), and is not hidden in the image.
 /// Objects reaching outside the grid are classified too: the image's facts hold for any point.
-template <int D> void Culler<D>::Impl::traverseBricks(const ViewFrustum& view, CullStats& st) requires(D == 3) {
+template <int D>
+template <class S>
+void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view, CullStats& st) requires(D == 3) {
     int rows = options.traversalImageRows;
     if (rows == 0) {
         const double want = std::ceil(2 * view.tanHalfHeight() / kAutoImagePixelTan);
         rows = int(std::clamp(want, double(kAutoImageMinRows), double(kAutoImageMaxRows)));
     }
-    imageActive = options.occlusion && traversalImage.begin(view, rows);
+    OcclusionBuffer3D& image = vs.traversalImage;
+    std::vector<ObjectSlot>& revealScratch = vs.revealScratch;
+    vs.imageActive = options.occlusion && image.begin(view, rows);
     st.tbvLookupsSkipped = tbvs.liveRegions() == 0;
-    const BrickTraversalStats3D ts = brickTraversal.run(
-        grid, storage, view, imageActive ? &traversalImage : nullptr, frame,
+    const BrickTraversalStats3D ts = vs.brickTraversal.run(
+        grid, *vs.storage, view, vs.imageActive ? &image : nullptr, vs.stamp,
         [&](const IVec3& brick) { return tbvs.mayHoldBrick(brick); },
-        [&](VoxelKey key, const IVec3&) { storage.forEachId(key, [&](ObjectSlot slot) { classify(slot, view); }); },
+        [&](VoxelKey key, const IVec3&) { storage.forEachId(key, [&](ObjectSlot slot) { classify(vs, slot, view); }); },
         [&](const IVec3& brick, const std::uint64_t visited[8]) {
             revealScratch.clear();
             // The visited voxels that hold some TBV, then those of them the image does not hide (a row's
@@ -87,7 +93,7 @@ template <int D> void Culler<D>::Impl::traverseBricks(const ViewFrustum& view, C
             bool any = false;
             for (int z = 0; z < 8; ++z) any = (held[z] = lists ? held[z] & visited[z] : visited[z]) != 0 || any;
             if (!any) return;
-            if (imageActive) {
+            if (vs.imageActive) {
                 const IVec3 o = brick * 8;
                 for (int z = 0; z < 8; ++z)
                     for (int y = 0; y < 8; ++y) {
@@ -96,12 +102,12 @@ template <int D> void Culler<D>::Impl::traverseBricks(const ViewFrustum& view, C
                         const int first = std::countr_zero(row), last = 31 - std::countl_zero(row);
                         const Vec3 at(o + IVec3{0, y, z});
                         const double s = view.slack();
-                        bool hide = traversalImage.hidden(Box<3>{at + Vec3(first, 0, 0), at + Vec3(last + 1, 1, 1)}, s);
+                        bool hide = image.hidden(Box<3>{at + Vec3(first, 0, 0), at + Vec3(last + 1, 1, 1)}, s);
                         std::uint32_t keep = hide ? 0u : row;
                         if (!hide && first != last)
                             for (std::uint32_t bits = row; bits != 0; bits &= bits - 1) {
                                 const int x = std::countr_zero(bits);
-                                if (traversalImage.hidden(Box<3>{at + Vec3(x, 0, 0), at + Vec3(x + 1, 1, 1)}, s))
+                                if (image.hidden(Box<3>{at + Vec3(x, 0, 0), at + Vec3(x + 1, 1, 1)}, s))
                                     keep &= ~(1u << x);
                             }
                         held[z] = (held[z] & ~(std::uint64_t(0xFF) << (8 * y))) | (std::uint64_t(keep) << (8 * y));
@@ -120,7 +126,7 @@ template <int D> void Culler<D>::Impl::traverseBricks(const ViewFrustum& view, C
             }
             // Revealing erases from the lists: collected first, revealed after.
             for (ObjectSlot slot : revealScratch)
-                if (records[slot].state == State::Hidden) revealDuringTraversal(slot, st);
+                if (records[slot].state == State::Hidden) tbvMet(vs, slot, st);
         },
         [&](VoxelKey seed, const IVec3& lo, const IVec3& hi) {
             // A box object holding the seed that contains the whole fused box (its voxel range lo..hi).
@@ -133,7 +139,7 @@ template <int D> void Culler<D>::Impl::traverseBricks(const ViewFrustum& view, C
             });
             return inside;
         });
-    for (std::size_t i = 0; i < outside.size(); ++i) classify(outside[i], view);
+    for (std::size_t i = 0; i < outside.size(); ++i) classify(vs, outside[i], view);
     st.layers = 0;
     st.voxelsVisited = ts.voxelsVisited;
     st.nodesVisited = ts.nodesVisited;
@@ -141,12 +147,13 @@ template <int D> void Culler<D>::Impl::traverseBricks(const ViewFrustum& view, C
     st.nodesHidden = ts.nodesHidden;
     st.bricksVisited = ts.bricksVisited;
     st.occludersExtended = ts.fusedBoxes;
-    st.occlusionSkipped = !imageActive || traversalImage.stats().occludersDrawn == 0;
-    imageActive = false;
+    st.occlusionSkipped = !vs.imageActive || image.stats().occludersDrawn == 0;
+    vs.imageActive = false;
 }
 
 template void Culler<2>::Impl::classify(ObjectSlot);
 template void Culler<3>::Impl::classify(ObjectSlot);
-template void Culler<3>::Impl::traverseBricks(const ViewFrustum&, CullStats&);
+template void Culler<3>::Impl::traverseBricks(Culler<3>::Impl::MainScratch&, const ViewFrustum&, CullStats&);
+template void Culler<3>::Impl::traverseBricks(Culler<3>::Impl::SharedScratch&, const ViewFrustum&, CullStats&);
 
 } // namespace rgvc

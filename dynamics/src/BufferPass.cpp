@@ -14,7 +14,13 @@ namespace rgvc {
 /// with a current placement is tested against the image of the nearer ones kept, and drawn into it when
 /// it stays. Shapes are grown (tests) or shrunk (drawing) by their conversion slack and the camera's.
 /// Parked objects have no current placement: they stay and occlude nothing. Only result.pvs changes.
-template <int D> template <class View> void Culler<D>::Impl::refineWithBuffer(const View& view, CullStats& st) {
+template <int D>
+template <class S, class View>
+void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, CullStats& st) {
+    auto& occlusionBuffer = vs.occlusionBuffer;
+    auto& bufferOrder = vs.bufferOrder;
+    auto& bufferShapes = vs.bufferShapes;
+    auto& pvsStamp = vs.pvsStamp;
     {
         const auto t0 = std::chrono::steady_clock::now();
         if (!occlusionBuffer.begin(view, Traits::bufferSize(options))) return;
@@ -22,7 +28,7 @@ template <int D> template <class View> void Culler<D>::Impl::refineWithBuffer(co
         // needs; the sort then moves 16-byte keys, and the test-and-draw pass reads the copies in order.
         bufferOrder.clear();
         bufferShapes.clear();
-        for (ObjectSlot slot : pvsSlots) {
+        for (ObjectSlot slot : vs.pvsSlots) {
             const Record& r = records[slot];
             if (r.state != State::Tracked && r.state != State::Static) continue;
             const double slack = grid.conversionSlack(r.at.worldMagnitude) + view.slack();
@@ -42,12 +48,12 @@ template <int D> template <class View> void Culler<D>::Impl::refineWithBuffer(co
             }
         }
         if (removed != 0) {
-            result.pvs.clear();
-            for (ObjectSlot slot : pvsSlots)
-                if (pvsStamp[slot] == frame) {
-                    if (records[slot].role != ObjectRole::Occluder) result.pvs.push_back(records[slot].id);
+            vs.result.pvs.clear();
+            for (ObjectSlot slot : vs.pvsSlots)
+                if (pvsStamp[slot] == vs.stamp) {
+                    if (records[slot].role != ObjectRole::Occluder) vs.result.pvs.push_back(records[slot].id);
                 }
-                else pvsStamp[slot] = frame; // back to "in this frame's grid PVS"
+                else pvsStamp[slot] = vs.stamp; // back to "in this frame's grid PVS"
         }
         st.bufferTested = occlusionBuffer.stats().tested;
         st.bufferHidden = removed;
@@ -55,7 +61,9 @@ template <int D> template <class View> void Culler<D>::Impl::refineWithBuffer(co
     }
 }
 
-template void Culler<2>::Impl::refineWithBuffer<ViewWedge>(const ViewWedge&, CullStats&);
-template void Culler<3>::Impl::refineWithBuffer<ViewFrustum>(const ViewFrustum&, CullStats&);
+template void Culler<2>::Impl::refineWithBuffer(Culler<2>::Impl::MainScratch&, const ViewWedge&, CullStats&);
+template void Culler<2>::Impl::refineWithBuffer(Culler<2>::Impl::SharedScratch&, const ViewWedge&, CullStats&);
+template void Culler<3>::Impl::refineWithBuffer(Culler<3>::Impl::MainScratch&, const ViewFrustum&, CullStats&);
+template void Culler<3>::Impl::refineWithBuffer(Culler<3>::Impl::SharedScratch&, const ViewFrustum&, CullStats&);
 
 } // namespace rgvc

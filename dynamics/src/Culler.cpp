@@ -2,7 +2,8 @@
 // serves 2D and 3D; only the view region and the traversal differ (ViewWedge + FrustumTraversal2D,
 // ViewFrustum + FrustumTraversal3D), chosen by CullerTraits.
 // This file: the public members and the per-frame driver (Impl::cull); the rest of Impl is declared in
-// CullerImpl.hpp and defined by concept in ObjectTable.cpp, TbvPolicy.cpp, BrickPass.cpp and BufferPass.cpp.
+// CullerImpl.hpp and defined by concept in ObjectTable.cpp, TbvPolicy.cpp, BrickPass.cpp, BufferPass.cpp
+// and ViewPass.cpp (the view pass cull() shares with cullViews()).
 #include "rgvc/dynamics/Culler.hpp"
 
 #include "CullerImpl.hpp"
@@ -55,8 +56,8 @@ template <int D> void Culler<D>::Impl::nextFrame() {
     ++frameIndex;
     if (++frame > DenseStorage<D>::kMaxStamp) { // past the stamps' range: one full clear, every 65,535 frames
         storage.resetStamps();
-        std::fill(pvsStamp.begin(), pvsStamp.end(), 0);
-        std::fill(classifiedStamp.begin(), classifiedStamp.end(), 0);
+        std::fill(main.pvsStamp.begin(), main.pvsStamp.end(), 0);
+        std::fill(main.classifiedStamp.begin(), main.classifiedStamp.end(), 0);
         frame = 1;
     }
 }
@@ -66,10 +67,8 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
     const typename Traits::View view(camera, grid); // may throw (3D: up parallel to direction)
     const auto t0 = std::chrono::steady_clock::now();
     nextFrame();
-    result.pvs.clear();
-    pvsSlots.clear();
-    CullStats& st = result.stats;
-    st = CullStats{};
+    beginView(main);
+    CullStats& st = main.result.stats;
     st.objectCount = std::uint32_t(slotOf.size());
     query = placementOf;
     queryException = nullptr;
@@ -78,55 +77,11 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
 
     const bool cameraIn = grid.containsLocal(view.apex());
     const IVec<D> cameraVoxel = glm::clamp(GridGeometry<D>::voxelOfLocal(view.apex()), IVec<D>(0), grid.resolution() - 1);
-    updateScene(cameraIn, cameraVoxel, st);
+    updateScene(cameraIn, std::span<const IVec<D>>(&cameraVoxel, 1), st);
     st.updateMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-
-    currentView = &view;
-    if (D == 3 && cameraIn && options.hierarchical) {
-        if constexpr (D == 3) traverseBricks(view, st);
-    } else if (cameraIn) {
-        st.tbvLookupsSkipped = hidden.empty();
-        const bool deferCaps = D == 3 && options.adaptiveCaps && options.occlusion && capsSkip > 0;
-        Traits::traverse(traversal, grid, storage, view, frame, options, !hidden.empty(), deferCaps, st,
-                         [&](VoxelKey key, const IVec<D>& v) {
-            if (tbvs.liveRegions() != 0) {
-                revealScratch.clear();
-                tbvs.collectAt(v, revealScratch);
-                for (ObjectSlot slot : revealScratch) revealDuringTraversal(slot, st);
-            }
-            storage.forEachId(key, [&](ObjectSlot slot) { addToPvs(slot); });
-        });
-        if (D == 3 && options.adaptiveCaps && options.occlusion) scheduleCaps(st);
-        // Objects reaching outside the grid may be seen through the part the grid does not hold: they are
-        // tested against the view region only.
-        for (std::size_t i = 0; i < outside.size(); ++i) {
-            const Record& r = records[outside[i]];
-            if (view.touchesBox(r.at.localBounds.min, r.at.localBounds.max)) addToPvs(outside[i]);
-        }
-    } else {
-        // The grid's occlusion is only valid for cameras inside it: view-region test for every object, a
-        // hidden one by its TBV (revealed if the TBV touches the view).
-        st.fallback = Fallback::CameraOutsideGrid;
-        st.occlusionSkipped = true;
-        st.tbvLookupsSkipped = true;
-        for (ObjectSlot s = 0; s < records.size(); ++s) {
-            Record& r = records[s];
-            if (!r.alive) continue;
-            if (r.state == State::Hidden) {
-                const Vec<D> lo = r.tbv.centre - r.tbv.radius, hi = r.tbv.centre + r.tbv.radius;
-                if (!view.touchesBox(lo, hi)) continue;
-                ++st.tbvsRevealed;
-                if (!reveal(s, st)) continue; // parked: reported below
-            }
-            if ((r.state == State::Tracked || r.state == State::Static) &&
-                view.touchesBox(r.at.localBounds.min, r.at.localBounds.max))
-                addToPvs(s);
-        }
-    }
-    for (std::size_t i = 0; i < parked.size(); ++i) addToPvs(parked[i]);
-    currentView = nullptr;
+    cullView(main, view, cameraIn);
     havePrevCamera = cameraIn;
-    prevCamera = cameraVoxel;
+    prevCameras.assign(1, cameraVoxel);
     query = nullptr;
 
     st.objectsOutsideGrid = std::uint32_t(outside.size());
@@ -135,29 +90,10 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
     st.parkedObjects = std::uint32_t(parked.size());
     st.gridWrites = writes;
     st.tbvMatrixAllocated = tbvs.allocated();
-    if (options.occlusion && Traits::bufferSize(options) > 0 && pvsSlots.size() > 1) {
-        // CullerOptions::adaptiveBuffer: a pass that hid under a tenth of what it tested skips the next
-        // 1, 2, 4, then at most 8 frames; a pass that pays resets the schedule. Skipping only leaves the
-        // grid's PVS as it is (a superset).
-        if (options.adaptiveBuffer && bufferSkip > 0) {
-            --bufferSkip;
-            st.bufferSkipped = true;
-        } else {
-            refineWithBuffer(view, st);
-            if (options.adaptiveBuffer && st.bufferTested > 0 && st.bufferHidden * 10 < st.bufferTested) {
-                bufferSkip = bufferBackoff;
-                bufferBackoff = std::min<std::uint32_t>(2 * bufferBackoff, 8);
-            } else {
-                bufferBackoff = 1;
-            }
-        }
-    }
-    std::sort(result.pvs.begin(), result.pvs.end());
-    st.pvsSize = std::uint32_t(result.pvs.size());
     st.cullMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (queryException) std::rethrow_exception(std::exchange(queryException, nullptr));
     if (!invalidField.empty()) throw InvalidInput(invalidField, invalidWhat);
-    return result;
+    return main.result;
 }
 
 template <int D> Culler<D>::Culler(const GridGeometry<D>& grid, const CullerOptions& options) {
@@ -205,7 +141,7 @@ template <int D> const GridGeometry<D>& Culler<D>::grid() const { return checked
 template <int D> const CullerOptions& Culler<D>::options() const { return checked("options", true).options; }
 template <int D> bool Culler<D>::hasObject(ObjectId id) const { return checked("hasObject", true).slotOf.count(id) != 0; }
 template <int D> std::size_t Culler<D>::objectCount() const { return checked("objectCount", true).slotOf.size(); }
-template <int D> const CullResult& Culler<D>::lastResult() const { return checked("lastResult").result; }
+template <int D> const CullResult& Culler<D>::lastResult() const { return checked("lastResult").main.result; }
 
 template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
     Impl& m = checked("addObject");
@@ -228,10 +164,10 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
     } else {
         slot = ObjectSlot(m.records.size());
         m.records.emplace_back();
-        m.pvsStamp.push_back(0);
+        m.main.pvsStamp.push_back(0);
         m.statePos.push_back(kNone);
         m.outsidePos.push_back(kNone);
-        m.classifiedStamp.push_back(0);
+        m.main.classifiedStamp.push_back(0);
         m.footprints.emplace_back();
     }
     typename Impl::Record& r = m.records[slot];

@@ -5,6 +5,14 @@
 //   TbvPolicy.cpp    temporal bounding volumes: buildTbv, updateScene, reveal, revealDuringTraversal
 //   BrickPass.cpp    CullerOptions::hierarchical (3D): traverseBricks and classify
 //   BufferPass.cpp   the occlusion buffer's pass over the grid's PVS (refineWithBuffer)
+//   ViewPass.cpp     one view's pass of a frame (cullView) and several views per frame (cullViews)
+//
+// Scene state and view state. Everything a frame's view pass writes per view (traversal stamps, the
+// traversal's image, the occlusion buffer, the PVS under construction) lives in a ViewScratch; the rest of
+// Impl is the scene (objects, O, I, T, the TBV schedule), written only by the scene update before the view
+// passes and by the reveals after them. cull() runs one pass over `main`, whose stamps are the scene
+// storage's own and which reveals TBVs the moment it meets them (classifying the object in the same
+// frame); cullViews() runs one pass per camera over `views`, concurrently, with the scene read-only.
 // Each file explicitly instantiates, for D = 2 and 3, the members it defines; the few defined here are
 // inline (addToPvs runs once per id the traversal meets, ballInside is also used by updateObject).
 #pragma once
@@ -18,10 +26,13 @@
 
 #include "CullerTraits.hpp"
 #include "SlotSet.hpp"
+#include "ViewStorage.hpp"
 
 #include <cmath>
 #include <cstdint>
 #include <exception>
+#include <memory>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -79,7 +90,6 @@ template <int D> struct Culler<D>::Impl {
     CullerOptions options;
     DenseStorage<D> storage;
     TbvMatrix<D> tbvs;
-    typename Traits::Traversal traversal;
     std::vector<Record> records;
     std::vector<ObjectSlot> freeSlots;
     std::unordered_map<ObjectId, ObjectSlot> slotOf;
@@ -93,9 +103,8 @@ template <int D> struct Culler<D>::Impl {
     std::vector<std::vector<std::pair<ObjectSlot, std::uint32_t>>> expiring;
     std::uint32_t frame = 0;         // stamp of the stamped matrices, 1..DenseStorage::kMaxStamp, then again
     std::uint64_t frameIndex = 0;    // cull() calls so far, never wraps
-    bool havePrevCamera = false;
-    IVec<D> prevCamera{0};
-    CullResult result;
+    bool havePrevCamera = false;     // every camera of the last frame was in the grid
+    std::vector<IVec<D>> prevCameras; // their voxels (one per view)
 
     // The current frame's placement source (null: the stored placements) and its first failure.
     const PlacementQuery<D>* query = nullptr;
@@ -105,13 +114,10 @@ template <int D> struct Culler<D>::Impl {
     std::uint64_t writes = 0;
     std::vector<ObjectSlot> revealScratch;
     Placement fetched; // the last placement a query returned
-    const typename Traits::View* currentView = nullptr; // the frame's view, while cull() runs
     // CullerOptions::adaptiveCaps (3D): frames still to start without caps, and the next skip's length.
     std::uint32_t capsSkip = 0, capsBackoff = 1;
     // CullerOptions::adaptiveBuffer: frames still to skip the occlusion buffer's pass, and the next skip.
     std::uint32_t bufferSkip = 0, bufferBackoff = 1;
-    // The grid PVS's slots in the order added, and the occlusion buffer that refines it (3D).
-    std::vector<ObjectSlot> pvsSlots;
     struct BufferShape {
         // Voxel units. Balls and boxes are copied (the sort's pass then reads no record); a shape that
         // owns memory (a polytope) is not, to allocate nothing per object and frame: `large` points at it
@@ -123,15 +129,39 @@ template <int D> struct Culler<D>::Impl {
         double slack;              // conversion slack of the object and the camera
         ObjectSlot slot;
     };
-    std::vector<std::pair<double, std::uint32_t>> bufferOrder; // (nearest distance, index in bufferShapes)
-    std::vector<BufferShape> bufferShapes;
-    typename Traits::Buffer occlusionBuffer;
-    // CullerOptions::hierarchical (3D): the brick-tree walk, its occlusion image, and per slot the frame
-    // stamp in which the object was classified (tested against the view and the image) by it.
-    BrickTraversal3D<DenseStorage<3>> brickTraversal;
-    OcclusionBuffer3D traversalImage;
-    bool imageActive = false;
-    std::vector<std::uint32_t> classifiedStamp;
+
+    /// One view's state in a frame. S is the storage its traversal stamps: the scene's DenseStorage
+    /// (cull()) or a ViewStorage over it (cullViews(), kShared: the pass writes nothing of the scene).
+    template <class S> struct ViewScratch {
+        static constexpr bool kShared = requires { S::kSharedScene; };
+        S* storage = nullptr;
+        std::unique_ptr<S> ownStorage;   // kShared: this view's stamps
+        std::uint32_t stamp = 0;         // this view's frame stamp (main: Impl::frame)
+        typename Traits::template Traversal<S> traversal;
+        // CullerOptions::hierarchical (3D): the brick-tree walk and its occlusion image.
+        BrickTraversal3D<S> brickTraversal;
+        OcclusionBuffer3D traversalImage;
+        bool imageActive = false;
+        // The grid PVS's slots in the order added, and the occlusion buffer that refines it.
+        std::vector<ObjectSlot> pvsSlots;
+        std::vector<std::pair<double, std::uint32_t>> bufferOrder; // (nearest distance, index in bufferShapes)
+        std::vector<BufferShape> bufferShapes;
+        typename Traits::Buffer occlusionBuffer;
+        // Per slot: the stamp in which the object joined this view's PVS, and in which the hierarchical
+        // traversal classified it (tested against the view and the image).
+        std::vector<std::uint32_t> pvsStamp, classifiedStamp;
+        std::vector<ObjectSlot> revealScratch;
+        std::vector<ObjectSlot> met; // kShared: hidden objects whose TBV this view met, in the order met
+        const typename Traits::View* view = nullptr; // while the pass runs
+        std::exception_ptr failure;  // kShared: what the pass threw (bad_alloc), rethrown after all views
+        CullResult result;
+    };
+    using MainScratch = ViewScratch<DenseStorage<D>>;
+    using SharedScratch = ViewScratch<ViewStorage<D>>;
+    MainScratch main;
+    std::vector<std::unique_ptr<SharedScratch>> views; // cullViews: one per camera slot, kept for reuse
+    MultiCullResult multiResult;
+    std::unique_ptr<TaskExecutor> defaultExecutor; // cullViews without an executor: a TBB arena, made once
     // Per slot: the footprint written into I and O while the object is there (Static, Tracked), empty
     // otherwise. A move rasterizes only its new placement; a removal takes out exactly what was put in.
     std::vector<RowFootprint> footprints;
@@ -140,6 +170,7 @@ template <int D> struct Culler<D>::Impl {
     Impl(const GridGeometry<D>& g, const CullerOptions& o)
         : grid(g), options(o), storage(g), tbvs(g.resolution()), expiring(std::size_t(o.tbvMaxFrames) + 2) {
         if (options.tbvMaxGrowth == 0) options.tbvMaxGrowth = D == 2 ? 32.0 : 8.0;
+        main.storage = &storage;
     }
 
     // ---- placements, rasterization and object states (ObjectTable.cpp) ------------------------------
@@ -159,8 +190,9 @@ template <int D> struct Culler<D>::Impl {
 
     // ---- temporal bounding volumes (§4.1; TbvPolicy.cpp) -------------------------------------------
 
-    bool buildTbv(const Record& r, const Placement& p, bool cameraKnown, const IVec<D>& camera, TbvRegion<D>& region,
-                  std::uint64_t& expiry) const;
+    /// cameras: the voxels of this frame's cameras (every view's), which a boundary TBV must stay clear of.
+    bool buildTbv(const Record& r, const Placement& p, bool cameraKnown, std::span<const IVec<D>> cameras,
+                  TbvRegion<D>& region, std::uint64_t& expiry) const;
     bool brokePromise(const Placement& p) const;
     double stepOf(const Record& r) const;
     /// Whether ball b lies inside the TBV region r (a disc in 2D, a cube in 3D).
@@ -174,34 +206,53 @@ template <int D> struct Culler<D>::Impl {
         }
     }
     bool reveal(ObjectSlot slot, CullStats& st);
-    void updateScene(bool cameraIn, const IVec<D>& camera, CullStats& st);
+    /// cameraIn: every camera of the frame is in the grid; cameras: their voxels (clamped into it).
+    void updateScene(bool cameraIn, std::span<const IVec<D>> cameras, CullStats& st);
     void revealDuringTraversal(ObjectSlot slot, CullStats& st);
 
     // ---- 3D hierarchical traversal (BrickPass.cpp) -------------------------------------------------
 
-    template <class View> void classify(ObjectSlot slot, const View& view);
-    void classify(ObjectSlot slot);
-    void traverseBricks(const ViewFrustum& view, CullStats& st) requires(D == 3);
+    template <class S, class View> void classify(ViewScratch<S>& vs, ObjectSlot slot, const View& view);
+    void classify(ObjectSlot slot); // cull()'s view (main)
+    template <class S> void traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view, CullStats& st) requires(D == 3);
 
     // ---- the occlusion buffer's pass (BufferPass.cpp) ----------------------------------------------
 
-    template <class View> void refineWithBuffer(const View& view, CullStats& st);
+    template <class S, class View> void refineWithBuffer(ViewScratch<S>& vs, const View& view, CullStats& st);
 
     // ---- the frame (Culler.cpp) --------------------------------------------------------------------
 
-    /// Adds an object to this frame's PVS (once per frame; called per id met, so kept inline here).
-    void addToPvs(ObjectSlot slot) {
-        if (pvsStamp[slot] == frame) return;
-        pvsStamp[slot] = frame;
-        records[slot].lastPvsFrame = frameIndex;
+    /// Adds an object to a view's PVS (once per frame; called per id met, so kept inline here). The
+    /// scene's record of it (lastPvsFrame) is written by finishView (main) or after all views (cullViews).
+    template <class S> void addToPvs(ViewScratch<S>& vs, ObjectSlot slot) {
+        if (vs.pvsStamp[slot] == vs.stamp) return;
+        vs.pvsStamp[slot] = vs.stamp;
         // An occluder-only object counts as in the PVS for the culler's own bookkeeping (it stays in O and
         // I while in view) but is not reported.
-        if (records[slot].role != ObjectRole::Occluder) result.pvs.push_back(records[slot].id);
-        pvsSlots.push_back(slot);
+        if (records[slot].role != ObjectRole::Occluder) vs.result.pvs.push_back(records[slot].id);
+        vs.pvsSlots.push_back(slot);
+    }
+    /// A hidden object's TBV met in a visible voxel: cull() reveals it now; a cullViews() pass reports it
+    /// (its placement inside the TBV is unknown to the pass) and records it for the reveals after all views.
+    template <class S> void tbvMet(ViewScratch<S>& vs, ObjectSlot slot, CullStats& st) {
+        if constexpr (ViewScratch<S>::kShared) {
+            vs.met.push_back(slot);
+            addToPvs(vs, slot);
+        } else {
+            revealDuringTraversal(slot, st);
+        }
     }
     void scheduleCaps(const CullStats& st);
     void nextFrame();
+    /// Starts a view's frame: stamps (the shared scratch's own, wrapping like the scene's), the PVS.
+    template <class S> void beginView(ViewScratch<S>& vs);
+    /// One view's pass of a frame after the scene update (ViewPass.cpp): traversal, objects outside the
+    /// grid, parked objects, the occlusion buffer, the sorted PVS. Writes the scene only through tbvMet
+    /// when S is the scene's own storage.
+    template <class S> void cullView(ViewScratch<S>& vs, const typename Traits::View& view, bool cameraIn);
     const CullResult& cull(const Camera<D>& camera, const PlacementQuery<D>* placementOf);
+    const MultiCullResult& cullViews(std::span<const Camera<D>> cameras, const PlacementQuery<D>* placementOf,
+                                     TaskExecutor* executor);
 };
 
 } // namespace rgvc

@@ -25,7 +25,8 @@ template <> struct CullerTraits<2> {
     using View = ViewWedge;
     using Buffer = OcclusionBuffer2D;
     static int bufferSize(const CullerOptions& o) { return o.occlusionBufferBins; }
-    using Traversal = FrustumTraversal2D<DenseStorage<2>>;
+    /// Over the scene's DenseStorage (Culler::cull) or a view's stamps over it (ViewStorage, cullViews).
+    template <class S> using Traversal = FrustumTraversal2D<S>;
     static void checkGrid(const GridGeometry2& grid) {
         for (int a = 0; a < 2; ++a)
             if (grid.resolution()[a] > kMaxShadowExtent)
@@ -34,8 +35,8 @@ template <> struct CullerTraits<2> {
                                                           std::to_string(grid.resolution()[a]));
     }
     /// reportEveryVoxel: the 2D traversal reports every visited voxel not in H anyway.
-    template <class OnVoxel>
-    static void traverse(Traversal& t, const GridGeometry2& grid, DenseStorage<2>& storage, const View& view,
+    template <class S, class OnVoxel>
+    static void traverse(Traversal<S>& t, const GridGeometry2& grid, S& storage, const View& view,
                          std::uint32_t stamp, const CullerOptions& options, bool /*reportEveryVoxel*/,
                          bool /*deferCaps*/, CullStats& st, OnVoxel&& onVoxel) {
         TraversalOptions2D topt;
@@ -58,10 +59,10 @@ template <> struct CullerTraits<3> {
     using View = ViewFrustum;
     using Buffer = OcclusionBuffer3D;
     static int bufferSize(const CullerOptions& o) { return o.occlusionBufferRows; }
-    using Traversal = FrustumTraversal3D<DenseStorage<3>>;
+    template <class S> using Traversal = FrustumTraversal3D<S>;
     static void checkGrid(const GridGeometry3&) {}
-    template <class OnVoxel>
-    static void traverse(Traversal& t, const GridGeometry3& grid, DenseStorage<3>& storage, const View& view,
+    template <class S, class OnVoxel>
+    static void traverse(Traversal<S>& t, const GridGeometry3& grid, S& storage, const View& view,
                          std::uint32_t stamp, const CullerOptions& options, bool reportEveryVoxel, bool deferCaps,
                          CullStats& st, OnVoxel&& onVoxel) {
         TraversalOptions3D topt;

@@ -15,10 +15,10 @@ namespace rgvc {
 /// Builds the TBV of an object placed at p now: a disc (2D) or cube (3D) around its bounding ball,
 /// grown by maxSpeed per frame of validity. The validity is the longest that keeps the region inside
 /// the grid (so the object stays in it; not needed under objectsStayInGrid) and, for boundary TBVs,
-/// clear of the camera's voxel (§4.1),
+/// clear of every camera's voxel (§4.1; several with cullViews),
 /// capped by tbvMaxFrames and tbvMaxGrowth. False if not even one frame fits.
 template <int D>
-bool Culler<D>::Impl::buildTbv(const Record& r, const Placement& p, bool cameraKnown, const IVec<D>& camera,
+bool Culler<D>::Impl::buildTbv(const Record& r, const Placement& p, bool cameraKnown, std::span<const IVec<D>> cameras,
                                TbvRegion<D>& region, std::uint64_t& expiry) const {
     if (p.outsideGrid) return false;
     const Ball<D> b = boundingBall<D>(p.local);
@@ -30,7 +30,7 @@ bool Culler<D>::Impl::buildTbv(const Record& r, const Placement& p, bool cameraK
             room = std::min(room, std::min(b.center[a], double(grid.resolution()[a]) - b.center[a]));
     // Strictly clear of the camera voxel: tbvTouches() must say no, with its slack and some rounding.
     if (cameraKnown && tbvBoundaryOnly(options.tbvDiscretization))
-        room = std::min(room, tbvGap(b.center, camera) - 4 * kConservativeSlack);
+        for (const IVec<D>& camera : cameras) room = std::min(room, tbvGap(b.center, camera) - 4 * kConservativeSlack);
     // Rounding of world-to-voxel conversions, now and at every later placement.
     const double slack = 2 * grid.conversionSlack(p.worldMagnitude) + kConservativeSlack;
     const double base = b.radius + slack;
@@ -80,7 +80,7 @@ template <int D> bool Culler<D>::Impl::reveal(ObjectSlot slot, CullStats& st) {
 }
 
 /// Scene discretization of one frame (§4.1), before the traversal.
-template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, const IVec<D>& camera, CullStats& st) {
+template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, std::span<const IVec<D>> cameras, CullStats& st) {
     if (!options.temporalBoundingVolumes) { // the baseline: every moving object re-placed every frame
         for (std::size_t i = 0; i < tracked.size();) {
             const ObjectSlot slot = tracked[i];
@@ -97,15 +97,19 @@ template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, const IVec<D>&
         const bool boundary = tbvBoundaryOnly(options.tbvDiscretization);
         // §4.1's camera condition: a camera voxel that moved by more than one voxel on some axis may
         // have landed inside a TBV without crossing its boundary. Check them all (the only O(hidden)
-        // step, and only on such frames).
+        // step, and only on such frames). With several views, each camera against the same view's last
+        // one; a change in the number of views counts as a jump.
         if (boundary && cameraIn && !hidden.empty()) {
-            bool jump = !havePrevCamera;
-            for (int a = 0; a < D; ++a) jump = jump || std::abs(camera[a] - prevCamera[a]) > 1;
+            bool jump = !havePrevCamera || prevCameras.size() != cameras.size();
+            for (std::size_t c = 0; c < cameras.size() && !jump; ++c)
+                for (int a = 0; a < D; ++a) jump = jump || std::abs(cameras[c][a] - prevCameras[c][a]) > 1;
             if (jump) {
                 st.cameraJump = true;
                 for (std::size_t i = 0; i < hidden.size();) {
                     const ObjectSlot slot = hidden[i];
-                    if (!tbvTouches<D>(records[slot].tbv, camera)) {
+                    bool touches = false;
+                    for (const IVec<D>& camera : cameras) touches = touches || tbvTouches<D>(records[slot].tbv, camera);
+                    if (!touches) {
                         ++i;
                         continue;
                     }
@@ -144,7 +148,7 @@ template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, const IVec<D>&
             if (!inPvs && cameraIn && frameIndex < r.holdUntil) {
                 ++st.tbvsHeld;
             } else if (!inPvs && cameraIn) {
-                if (buildTbv(r, *p, true, camera, region, expiry)) {
+                if (buildTbv(r, *p, true, cameras, region, expiry)) {
                     detach(slot);
                     attachHidden(slot, *p, region, expiry);
                     ++st.tbvsCreated;
@@ -175,7 +179,7 @@ template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, const IVec<D>&
             TbvRegion<D> region;
             std::uint64_t expiry = 0;
             if (r.growthLevel > 0) --r.growthLevel; // unrevealed for a whole validity: grow larger again
-            if (buildTbv(r, *p, cameraIn, camera, region, expiry)) {
+            if (buildTbv(r, *p, cameraIn, cameras, region, expiry)) {
                 attachHidden(slot, *p, region, expiry);
                 r.fruitless = 0; // it stayed hidden for a whole validity
                 ++st.tbvsRenewed;
@@ -206,7 +210,7 @@ template <int D> void Culler<D>::Impl::revealDuringTraversal(ObjectSlot slot, Cu
     ++st.tbvsRevealed;
     records[slot].revealedFrame = frameIndex;
     if (!reveal(slot, st)) {
-        addToPvs(slot);
+        addToPvs(main, slot);
         return;
     }
     if (D == 3 && options.hierarchical) { // classified against the view and the image, now
@@ -222,22 +226,22 @@ template <int D> void Culler<D>::Impl::revealDuringTraversal(ObjectSlot slot, Cu
             seen = seen || (storage.visited(key, frame) && !storage.occluded(key, frame));
         },
         grid.conversionSlack(p.worldMagnitude));
-    if (seen) addToPvs(slot);
+    if (seen) addToPvs(main, slot);
 }
 
-template bool Culler<2>::Impl::buildTbv(const Record&, const Placement&, bool, const IVec<2>&, TbvRegion<2>&,
-                                        std::uint64_t&) const;
+template bool Culler<2>::Impl::buildTbv(const Record&, const Placement&, bool, std::span<const IVec<2>>,
+                                        TbvRegion<2>&, std::uint64_t&) const;
 template bool Culler<2>::Impl::brokePromise(const Placement&) const;
 template double Culler<2>::Impl::stepOf(const Record&) const;
 template bool Culler<2>::Impl::reveal(ObjectSlot, CullStats&);
-template void Culler<2>::Impl::updateScene(bool, const IVec<2>&, CullStats&);
+template void Culler<2>::Impl::updateScene(bool, std::span<const IVec<2>>, CullStats&);
 template void Culler<2>::Impl::revealDuringTraversal(ObjectSlot, CullStats&);
-template bool Culler<3>::Impl::buildTbv(const Record&, const Placement&, bool, const IVec<3>&, TbvRegion<3>&,
-                                        std::uint64_t&) const;
+template bool Culler<3>::Impl::buildTbv(const Record&, const Placement&, bool, std::span<const IVec<3>>,
+                                        TbvRegion<3>&, std::uint64_t&) const;
 template bool Culler<3>::Impl::brokePromise(const Placement&) const;
 template double Culler<3>::Impl::stepOf(const Record&) const;
 template bool Culler<3>::Impl::reveal(ObjectSlot, CullStats&);
-template void Culler<3>::Impl::updateScene(bool, const IVec<3>&, CullStats&);
+template void Culler<3>::Impl::updateScene(bool, std::span<const IVec<3>>, CullStats&);
 template void Culler<3>::Impl::revealDuringTraversal(ObjectSlot, CullStats&);
 
 } // namespace rgvc

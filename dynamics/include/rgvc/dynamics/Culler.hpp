@@ -48,8 +48,32 @@
 // is given a placement query is a teleport: the pushed placement replaces the object's current one at
 // once (one pushed outside its TBV goes back into O and I and is classified by the next frame).
 //
-// Threads: not thread-safe; one culler per thread, and the placement query is called on the thread that
-// called cull(). Different cullers share nothing.
+// Threads: a culler is not thread-safe: call its members from one thread at a time (one culler per
+// thread, or a lock around it). The placement query is called on the thread that called cull() or
+// cullViews(), never concurrently. Different cullers share nothing. cullViews() itself runs its per-view
+// passes concurrently on a TaskExecutor; those passes only read the scene and write their own view's
+// scratch state, and the call returns after all of them have finished.
+//
+// Several views per frame (split screen, shadow cascades, cube-map faces): cullViews(cameras) is one
+// frame with one scene update and one cull per camera, run in parallel. The frame, step by step:
+//   1. the scene update (as in cull(), above), once, with the camera conditions of every view: a boundary
+//      TBV stays clear of every camera's voxel, and a camera that moved by more than one voxel since the
+//      same view of the last frame (or a change in the number of views) makes every TBV be checked
+//      against every camera voxel;
+//   2. one pass per view, concurrently: the grid traversal, the occlusion image and buffer, over the
+//      scene as the update left it. A pass writes nothing the others read (its own traversal stamps,
+//      6 bytes per voxel per view, allocated once per view slot). A TBV that a view meets in a visible
+//      voxel cannot be revealed there (revealing writes O, I and T, which the other views read), so that
+//      view reports the hidden object (a superset: it is somewhere in its TBV) and records it;
+//   3. the reveals, on the calling thread, in the fixed order view 0, 1, ..., each view's in the order
+//      it met them: a TBV met by any view is revealed for all (the object goes back into O and I, so the
+//      next frame classifies it in every view). Objects in any view's PVS count as "in the last PVS" for
+//      the next scene update.
+// Each view's PVS is therefore a function of the scene and its camera alone: the same whatever the
+// executor, the number of threads or the scheduling (tests: test_views). It equals cull(camera) for
+// that camera except where a TBV was met (cull() reveals and classifies it in the same frame, so it may
+// cull it; cullViews reports it) and except that CullerOptions::adaptiveCaps and adaptiveBuffer, per-view
+// schedules, are not used by cullViews (caps and the buffer pass run every frame).
 #pragma once
 
 #include "rgvc/grid/Camera.hpp"
@@ -60,6 +84,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -162,6 +187,40 @@ struct CullStats {
 struct CullResult {
     std::vector<ObjectId> pvs; ///< sorted ascending, no duplicates
     CullStats stats;
+};
+
+/// Runs independent tasks, possibly at once: cullViews' per-view passes. An engine with a job system of
+/// its own implements it to run them there (as bvh v2 takes executors); rgvc/dynamics/TbbExecutor.hpp
+/// runs them on a TBB task arena, SerialExecutor on the calling thread.
+class TaskExecutor {
+public:
+    virtual ~TaskExecutor() = default;
+    /// Calls task(i) exactly once for every i in [0, count), on any threads and in any order, and
+    /// returns when every call has returned. rgvc's tasks never throw (they catch and report their own
+    /// failures), never call back into the executor, and take no locks.
+    virtual void parallelFor(std::size_t count, const std::function<void(std::size_t)>& task) = 0;
+};
+
+/// Runs the tasks one after another on the calling thread, in index order.
+class SerialExecutor final : public TaskExecutor {
+public:
+    void parallelFor(std::size_t count, const std::function<void(std::size_t)>& task) override {
+        for (std::size_t i = 0; i < count; ++i) task(i);
+    }
+};
+
+/// [Limit] the most cameras one cullViews() call takes.
+inline constexpr std::size_t kMaxViews = 64;
+
+/// What cullViews() returns: one CullResult per camera, and the frame's scene-wide work.
+struct MultiCullResult {
+    /// In the cameras' order. Each pvs is sorted ascending; each stats holds that view's pass (traversal,
+    /// buffer, pvsSize, cullMs: the pass's wall time, on its thread) and the scene counts after the frame.
+    std::vector<CullResult> views;
+    /// The scene update and the reveals after the views: placementQueries, tbvs*, speedViolations,
+    /// gridWrites, the tracked/hidden/parked counts after the frame, updateMs; cullMs: the whole call.
+    /// tbvsRevealed counts the TBVs met by some view and revealed after the passes.
+    CullStats scene;
 };
 
 /// Per-voxel state after the last cull (for pictures, debugging and tests).
@@ -290,7 +349,21 @@ public:
     /// @throws InvalidInput on an invalid camera (before changing anything) or on an invalid placement
     ///         (after completing the frame conservatively); rethrows what placementOf threw (likewise).
     const CullResult& cull(const Camera<D>& camera, const PlacementQuery<D>& placementOf);
+    /// cull()'s last result (cullViews() leaves it alone).
     const CullResult& lastResult() const;
+
+    /// One frame seen from several cameras: one scene update, then one pass per camera, run concurrently
+    /// on `executor` (null: the culler's own TBB task arena, made at the first call, as many threads as
+    /// TBB allows), then the reveals (see the top of this file for the steps and how views combine).
+    /// @param cameras  [Limit] 1..kMaxViews, each valid (validateCamera); checked before changing anything.
+    /// @param executor must outlive the call; it is not kept.
+    /// @return valid, unchanged, until the next cullViews(), or until the culler is destroyed or moved.
+    /// Memory: 6 bytes per grid voxel per view slot (its traversal stamps), kept for the next call.
+    /// @throws InvalidInput on an empty or too long span or an invalid camera ("cameras[i].fov_deg");
+    ///         placement failures as cull() (after completing the frame conservatively).
+    const MultiCullResult& cullViews(std::span<const Camera<D>> cameras, TaskExecutor* executor = nullptr);
+    const MultiCullResult& cullViews(std::span<const Camera<D>> cameras, const PlacementQuery<D>& placementOf,
+                                     TaskExecutor* executor = nullptr);
 
     /// State of voxel v after the last cull; inGrid = false outside the grid.
     VoxelState voxelState(const IVec<D>& v) const;

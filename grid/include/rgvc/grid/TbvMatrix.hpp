@@ -237,6 +237,8 @@ public:
         return any;
     }
 
+    /// Makes every later lookup read-only (see TbvMatrix<3>::freshen); 2D lookups always are.
+    void freshen() {}
     std::size_t liveRegions() const { return m_live; }
     bool allocated() const { return !m_counts.empty(); }
     std::size_t incidences() const { return m_incidences; }
@@ -370,6 +372,13 @@ public:
         return any;
     }
 
+    /// Rebuilds every stale brick now, so that collectAt and brickBits write nothing until the next
+    /// erase: after it, lookups from several threads at once are safe (Culler::cullViews' view passes).
+    /// Cost: one byte per brick, and each stale brick's list.
+    void freshen() {
+        for (std::size_t brick = 0; brick < m_stale.size(); ++brick)
+            if (m_stale[brick] != 0) rebuild(brick);
+    }
     std::size_t liveRegions() const { return m_live; }
     bool allocated() const { return !m_heads.empty() || !m_voxels.empty(); }
     std::size_t incidences() const { return m_lists.size(); }

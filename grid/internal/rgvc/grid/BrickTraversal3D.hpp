@@ -82,7 +82,7 @@ public:
                               OcclusionBuffer3D* image, std::uint32_t stamp, MayHoldTbv&& mayHoldTbv,
                               OnVoxel&& onVoxel, OnTbvs&& onTbvs, InsideObject&& insideObject) {
         BrickTraversalStats3D st;
-        BrickPyramid<3>& tree = storage.bricks();
+        const BrickPyramid<3>& tree = storage.bricks();
         const IVec3 res = grid.resolution();
         const Vec3& apex = frustum.apex();
         const double grow = frustum.slack();
@@ -195,9 +195,13 @@ private:
         }
         if (tbvHere) onTbvs(brick, visible);
         // Nothing in it. (onVoxel, which may add ids, ran for no voxel of this brick then.)
-        if (!anyIds && !tbvHere) {
-            storage.bricks().markEmpty(brick);
-            ++st.bricksCleared;
+        // (Not over a storage shared by concurrent views, kSharedScene: the pyramid is the scene's; it is
+        // left as a superset, which only costs a later walk the brick's voxels once more.)
+        if constexpr (!requires { Storage::kSharedScene; }) {
+            if (!anyIds && !tbvHere) {
+                storage.bricks().markEmpty(brick);
+                ++st.bricksCleared;
+            }
         }
     }
 
