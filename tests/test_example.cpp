@@ -64,6 +64,38 @@ rgvc::CullStats dynamicExample() {
 }
 // --- README dynamic example ends ---
 
+// --- README views example begins ---
+#include <rgvc/rgvc.hpp>
+
+#include <vector>
+
+std::vector<std::vector<rgvc::ObjectId>> viewsExample() {
+    rgvc::Culler3D culler(rgvc::GridGeometry3({0, 0, 0}, 1.0, {64, 32, 64}));
+    culler.addObject({.id = 1, .shape = rgvc::Box<3>{{0, 0, 30}, {64, 20, 32}}, .isStatic = true}); // a wall
+    culler.addObject({.id = 2, .shape = rgvc::Ball<3>{{32, 5, 50}, 2}, .maxSpeed = 0.5});          // behind it
+    culler.addObject({.id = 3, .shape = rgvc::Ball<3>{{32, 5, 10}, 2}, .maxSpeed = 0.5});          // in front
+
+    // Split screen: one scene update, both players' views culled in parallel (on a TBB task arena).
+    const std::vector<rgvc::Camera3> players = {{.position = {32, 5, 2}, .direction = {0, 0, 1}, .fovDeg = 60},
+                                                {.position = {32, 10, 40}, .direction = {0, 0, 1}, .fovDeg = 60}};
+    const rgvc::MultiCullResult& r = culler.cullViews(players);
+    std::vector<std::vector<rgvc::ObjectId>> pvs;
+    for (const rgvc::CullResult& view : r.views) pvs.push_back(view.pvs); // {1, 3} and {2}
+
+    // The same on the engine's own threads: any rgvc::TaskExecutor (here: the calling thread only).
+    rgvc::SerialExecutor sameThread;
+    const rgvc::MultiCullResult& again = culler.cullViews(players, &sameThread);
+    return again.views[0].pvs == pvs[0] && again.views[1].pvs == pvs[1] ? pvs : std::vector<std::vector<rgvc::ObjectId>>{};
+}
+// --- README views example ends ---
+
+TEST_CASE("the README views example: one wall, two players, the same PVS on every executor", "[example][views]") {
+    const std::vector<std::vector<rgvc::ObjectId>> pvs = viewsExample();
+    REQUIRE(pvs.size() == 2);
+    CHECK(pvs[0] == std::vector<rgvc::ObjectId>{1, 3});
+    CHECK(pvs[1] == std::vector<rgvc::ObjectId>{2});
+}
+
 TEST_CASE("the README dynamic example keeps the walkers behind the wall in TBVs", "[example][tbv]") {
     const rgvc::CullStats s = dynamicExample();
     CHECK(s.hiddenObjects >= 60);     // 80 walkers live behind the wall

@@ -42,6 +42,7 @@
 #pragma once
 
 #include "rgvc/dynamics/Culler.hpp"
+#include "rgvc/dynamics/TbbExecutor.hpp"
 #include "rgvc/grid/Camera.hpp"
 #include "rgvc/grid/Error.hpp"
 #include "rgvc/grid/GridGeometry.hpp"
