@@ -4,6 +4,7 @@
 // exactly visible object of every frame is in the printed PVS.
 #include "SceneFile.hpp"
 #include "SceneMotion.hpp"
+#include "SceneWriter.hpp"
 #include "ExactVisibility2D.hpp"
 #include "ExactVisibility3D.hpp"
 #ifdef RGVC_HAS_GL
@@ -22,6 +23,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -646,3 +648,36 @@ TEST_CASE("cull --gl on obbs and hulls: every object the item buffer shows is in
     CHECK(shown > 0);
 }
 #endif
+
+TEST_CASE("a culler's dumped scene (writeSceneFile) replays with rgvc cull: the same PVS", "[cli]") {
+    // A game's frame: buildings, a glass pane, movers, culled; dumped for a bug report; replayed.
+    using namespace rgvc;
+    const GridGeometry3 grid({0, 0, 0}, 1.0, {48, 24, 48});
+    Culler3D culler(grid);
+    ObjectId id = 1;
+    for (int b = 0; b < 6; ++b) {
+        const double x = 4 + 7 * b;
+        culler.addObject({.id = id++, .shape = Box<3>{{x, 0, 20}, {x + 5, 16, 26}}, .isStatic = true});
+    }
+    culler.addObject({.id = id++, .shape = Box<3>{{10, 0, 12}, {30, 10, 12.5}}, .isStatic = true, .role = ObjectRole::Occludee});
+    std::mt19937_64 rng(99);
+    for (int i = 0; i < 60; ++i) {
+        std::uniform_real_distribution<double> u(2, 46), y(1, 20);
+        culler.addObject({.id = id++, .shape = Ball<3>{{u(rng), y(rng), u(rng)}, 0.8}, .maxSpeed = 0.3});
+    }
+    Camera3 cam;
+    cam.position = {24, 6, 2};
+    cam.direction = {0, -0.05, 1};
+    cam.fovDeg = 70;
+    cam.aspect = 16.0 / 9.0;
+    culler.cull(cam);
+    const std::vector<ObjectId> pvs = culler.cull(cam).pvs;
+    const std::string path = (tempDir() / "dumped-frame.json").string();
+    writeSceneFile<3>(path, culler, cam);
+    const Run r = runRgvc("cull " + quote(path));
+    INFO("stderr: " << r.err);
+    REQUIRE(r.status == 0);
+    const json line = json::parse(r.out.substr(0, r.out.find('\n')));
+    CHECK(line["pvs"].get<std::vector<ObjectId>>() == pvs);
+    CHECK(pvs.size() < culler.objectCount()); // the buildings hide something
+}

@@ -2,6 +2,10 @@
 // must name, and the simulated motion's reflection rule.
 #include "SceneFile.hpp"
 #include "SceneMotion.hpp"
+#include "SceneWriter.hpp"
+
+#include "RandomScenes2D.hpp"
+#include "RandomScenes3D.hpp"
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
@@ -684,4 +688,104 @@ TEST_CASE("bad obb and hull objects name their field", "[scene][polytope]") {
     CHECK(reject(two) == "objects[3].shape");
     two["objects"][3]["shape"] = "obb";
     CHECK(reject(two) == "objects[3].shape");
+// The scene writer (SceneWriter.hpp): a culler's scene dumped and loaded again culls to the same PVS.
+
+namespace {
+
+/// Dumps `culler` with `cam`, loads the text, builds a culler from it and culls the loaded camera.
+template <int D> std::vector<ObjectId> replayed(const Culler<D>& culler, const Camera<D>& cam, const std::string& label) {
+    const std::string text = sceneToJson<D>(culler, cam);
+    const Scene scene = parseScene(text, label);
+    const SceneData<D>* s = scene.as<D>();
+    REQUIRE(s != nullptr);
+    Culler<D> again(s->grid, culler.options());
+    for (const SceneObject<D>& o : s->objects) again.addObject(o.desc());
+    return again.cull(s->cameraAt(0)).pvs;
+}
+
+template <int D, class MakeScene> void roundTrips(int scenes, MakeScene&& makeScene) {
+    int differ = 0, frames = 0;
+    for (int i = 0; i < scenes; ++i) {
+        auto scene = makeScene(std::uint64_t(500 + i));
+        std::mt19937_64 rng(std::uint64_t(i) * 31 + 7);
+        Culler<D> culler(scene.grid);
+        // Roles, insets and motion vary, so that the dump carries every field.
+        for (ObjectDesc<D> o : scene.objects) {
+            o.role = ObjectRole(rng() % 3);
+            if (rng() % 4 == 0) o.occluderInset = 0.1;
+            if (rng() % 3 == 0) o.isStatic = false, o.maxSpeed = 0.25;
+            culler.addObject(o);
+        }
+        const std::vector<ObjectId> pvs = culler.cull(scene.camera).pvs;
+        INFO("seed " << scene.seed);
+        differ += replayed<D>(culler, scene.camera, "round trip") != pvs;
+        ++frames;
+        // The dump's objects are the culler's: ids, roles, insets and flags.
+        const Scene loaded = parseScene(sceneToJson<D>(culler, scene.camera), "round trip");
+        const auto& objs = loaded.as<D>()->objects;
+        const std::vector<ObjectDesc<D>> held = culler.objects();
+        REQUIRE(objs.size() == held.size());
+        for (std::size_t k = 0; k < held.size(); ++k) {
+            CHECK(objs[k].id == held[k].id);
+            CHECK(objs[k].role == held[k].role);
+            CHECK(objs[k].occluderInset == held[k].occluderInset);
+            CHECK(objs[k].isStatic == held[k].isStatic);
+            CHECK(objs[k].maxSpeed == held[k].maxSpeed);
+            CHECK(boundsOf<D>(objs[k].shape).min == boundsOf<D>(held[k].shape).min);
+        }
+    }
+    std::printf("[scene] writer: %d %dD scenes written, loaded and culled: %d differ\n", frames, D, differ);
+    REQUIRE(differ == 0);
+}
+
+} // namespace
+
+TEST_CASE("scene writer: random 2D and 3D scenes round trip to the same PVS", "[scene]") {
+    roundTrips<2>(120, [](std::uint64_t seed) { return reference::randomScene2D(seed); });
+    roundTrips<3>(60, [](std::uint64_t seed) { return reference::randomScene3D(seed); });
+}
+
+TEST_CASE("scene writer: a moving scene dumped mid-run, with velocities, camera fields and the top view", "[scene]") {
+    const GridGeometry3 grid({-8, 0, -8}, 0.5, {64, 32, 64});
+    Culler3D culler(grid);
+    culler.addObject({.id = 3, .shape = Box<3>{{-2, 0, 4}, {6, 8, 6}}, .isStatic = true});
+    culler.addObject({.id = 4, .shape = Ball<3>{{2, 2, 12}, 1}, .maxSpeed = 0.5});
+    culler.addObject({.id = 7, .shape = Ball<3>{{2, 2, -4}, 1}, .maxSpeed = 0.5, .role = ObjectRole::Occludee});
+    Camera3 cam;
+    cam.position = {2, 4, 0};
+    cam.direction = {0, 0, 1};
+    cam.fovDeg = 50;
+    cam.aspect = 1.5;
+    cam.far = 30;
+    culler.cull(cam);
+    culler.updateObject(4, Ball<3>{{2.25, 2, 12}, 1});
+    const std::vector<ObjectId> pvs = culler.cull(cam).pvs;
+    const SceneVelocities<3> v{{4, Vec3{0.25, 0, 0}}};
+    const Scene s = parseScene(sceneToJson<3>(culler, cam, &v), "dump");
+    const SceneData3& d = *s.as<3>();
+    CHECK(d.camera.far == 30);
+    CHECK(d.camera.aspect == 1.5);
+    CHECK(d.objects[1].velocity == Vec3{0.25, 0, 0});
+    CHECK(std::get<Ball<3>>(d.objects[1].shape).center.x == 2.25);
+    CHECK(d.objects[2].role == ObjectRole::Occludee);
+    CHECK(replayed<3>(culler, cam, "dump") == pvs);
+    // A camera straight down with the default up: written with the up the culler used, so it loads.
+    Camera3 top = cam;
+    top.direction = {0, -1, 0};
+    top.far = INFINITY;
+    const SceneData3 t = *parseScene(sceneToJson<3>(culler, top), "top").as<3>();
+    CHECK(t.camera.up == Vec3{0, 0, -1});
+    CHECK(replayed<3>(culler, top, "top") == culler.cull(top).pvs);
+    // What the format would refuse is refused here, naming the object.
+    const SceneVelocities<3> fast{{4, Vec3{1, 0, 0}}}, onStatic{{3, Vec3{0.1, 0, 0}}};
+    CHECK_THROWS_WITH(sceneToJson<3>(culler, cam, &fast), Catch::StartsWith("object 4.velocity"));
+    CHECK_THROWS_WITH(sceneToJson<3>(culler, cam, &onStatic), Catch::StartsWith("object 3.velocity"));
+    Camera3 bad = cam;
+    bad.fovDeg = 0;
+    CHECK_THROWS_AS(sceneToJson<3>(culler, bad), InvalidInput);
+    CHECK_THROWS_WITH(writeSceneFile<3>("/nonexistent-dir/x.json", culler, cam), Catch::Contains("cannot be opened"));
+    // occluder_inset is read back (and a negative one refused).
+    json j = json::parse(sceneToJson<3>(culler, cam));
+    j["objects"][0]["occluder_inset"] = -1;
+    CHECK_THROWS_WITH(parseScene(j.dump(), "neg"), Catch::Contains("objects[0].occluder_inset"));
 }

@@ -459,6 +459,10 @@ template <int D> std::vector<SceneObject<D>> readObjects(const Reader& r, const 
             obj.isStatic = r.boolean(*st, f + ".static");
             if (obj.isStatic && speed != 0) r.fail(f + ".static", "a static object must have zero velocity");
         }
+        if (const json* inset = r.optional(o, "occluder_inset")) {
+            obj.occluderInset = r.number(*inset, f + ".occluder_inset");
+            if (obj.occluderInset < 0) r.fail(f + ".occluder_inset", "must be >= 0, got " + inset->dump());
+        }
         if (const json* role = r.optional(o, "role")) {
             const std::string name = role->is_string() ? role->get<std::string>() : std::string();
             if (name == "both") obj.role = ObjectRole::Both;

@@ -55,9 +55,11 @@ template <int D> struct SceneObject {
     double maxSpeed = 0;     ///< [World units per frame] >= |velocity|.
     bool isStatic = true;    ///< Never moves; implies velocity == 0.
     ObjectRole role = ObjectRole::Both; ///< `role`: "both" (default), "occludee", "occluder".
+    /// [World units] `occluder_inset` (an rgvc addition to the format, default 0): ObjectDesc::occluderInset.
+    double occluderInset = 0;
 
     /// The object as the culler wants it at frame 0.
-    ObjectDesc<D> desc() const { return {id, shape, isStatic, maxSpeed, 0.0, role}; }
+    ObjectDesc<D> desc() const { return {id, shape, isStatic, maxSpeed, occluderInset, role}; }
 };
 
 /// One entry of `camera_path`: the fields that change per frame.

@@ -141,6 +141,15 @@ template <int D> const GridGeometry<D>& Culler<D>::grid() const { return checked
 template <int D> const CullerOptions& Culler<D>::options() const { return checked("options", true).options; }
 template <int D> bool Culler<D>::hasObject(ObjectId id) const { return checked("hasObject", true).slotOf.count(id) != 0; }
 template <int D> std::size_t Culler<D>::objectCount() const { return checked("objectCount", true).slotOf.size(); }
+template <int D> std::vector<ObjectDesc<D>> Culler<D>::objects() const {
+    const Impl& m = checked("objects");
+    std::vector<ObjectDesc<D>> out;
+    out.reserve(m.slotOf.size());
+    for (const typename Impl::Record& r : m.records)
+        if (r.alive) out.push_back({r.id, r.at.world, r.isStatic, r.maxSpeed, r.inset, r.role});
+    std::sort(out.begin(), out.end(), [](const ObjectDesc<D>& a, const ObjectDesc<D>& b) { return a.id < b.id; });
+    return out;
+}
 template <int D> const CullResult& Culler<D>::lastResult() const { return checked("lastResult").main.result; }
 
 template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
@@ -176,6 +185,7 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
     r.maxSpeed = object.maxSpeed;
     r.inset = object.occluderInset;
     r.role = object.role;
+    r.isStatic = object.isStatic;
     r.alive = true;
     // A new object counts as a member of the last PVS: the next frame classifies it before it can be
     // hidden (the paper's first frame treats every object so).

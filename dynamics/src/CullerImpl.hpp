@@ -70,6 +70,7 @@ template <int D> struct Culler<D>::Impl {
         double maxSpeed = 0;
         double inset = 0; // [World units] ObjectDesc::occluderInset
         ObjectRole role = ObjectRole::Both;
+        bool isStatic = false; // ObjectDesc::isStatic, as added
         State state = State::Detached;
         bool alive = false;
         std::uint64_t lastPvsFrame = 0; // frameIndex of the last PVS holding it

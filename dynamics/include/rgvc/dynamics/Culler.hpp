@@ -341,6 +341,12 @@ public:
     void removeObject(ObjectId id);
     bool hasObject(ObjectId id) const;
     std::size_t objectCount() const;
+    /// Every object the culler holds, sorted by id, as it was added (isStatic, maxSpeed, occluderInset,
+    /// role) at the placement the culler knows now: the last one given to addObject or updateObject or
+    /// returned by the placement query (a hidden object's is the one it had when last asked, possibly
+    /// older than the application's). For scene dumps (rgvc::sceneToJson, apps/scene/SceneWriter.hpp).
+    /// Cost: O(n log n) and a copy of every shape.
+    std::vector<ObjectDesc<D>> objects() const;
 
     /// Computes the potentially visible set for one camera; objects are where add/updateObject put them.
     /// @throws InvalidInput on an invalid camera (see validateCamera), before changing anything.

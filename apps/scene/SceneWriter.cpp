@@ -1,0 +1,129 @@
+// The scene writer (SceneWriter.hpp) over nlohmann::ordered_json: fields in the order the format's
+// example gives them, numbers as nlohmann writes doubles (the shortest form that reads back exactly).
+#include "SceneWriter.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+#include <type_traits>
+#include <variant>
+
+namespace rgvc {
+
+namespace {
+
+using json = nlohmann::ordered_json;
+
+template <int D> json vec(const Vec<D>& v) {
+    json a = json::array();
+    for (int i = 0; i < D; ++i) a.push_back(v[i]);
+    return a;
+}
+
+/// The shape's fields. One case per alternative of Shape<D> and no generic one: a shape added to the
+/// variant fails to compile here until the writer handles it.
+template <int D> void writeShape(json& o, const Shape<D>& shape) {
+    std::visit(
+        [&](const auto& s) {
+            using T = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<T, Ball<D>>) {
+                o["shape"] = D == 2 ? "circle" : "sphere";
+                o["center"] = vec<D>(s.center);
+                o["radius"] = s.radius;
+            } else if constexpr (std::is_same_v<T, Box<D>>) {
+                o["shape"] = "box";
+                o["min"] = vec<D>(s.min);
+                o["max"] = vec<D>(s.max);
+            } else if constexpr (std::is_same_v<T, ConvexPolygon>) {
+                o["shape"] = "polygon";
+                json pts = json::array();
+                for (const Vec2& p : s.points) pts.push_back(vec<2>(p));
+                o["points"] = std::move(pts);
+            } else {
+                static_assert(sizeof(T) == 0, "sceneToJson: a Shape<D> alternative the scene writer does not handle");
+            }
+        },
+        shape);
+}
+
+template <int D> json cameraJson(const Camera<D>& c) {
+    json cam;
+    cam["position"] = vec<D>(c.position);
+    cam["direction"] = vec<D>(c.direction);
+    cam["fov_deg"] = c.fovDeg;
+    if (std::isfinite(c.far)) cam["far"] = c.far;
+    if constexpr (D == 3) {
+        cam["aspect"] = c.aspect;
+        cam["up"] = vec<3>(cameraUp(c)); // the loader's default up is (0, 1, 0), not cameraUp's
+    }
+    return cam;
+}
+
+} // namespace
+
+template <int D>
+std::string sceneToJson(const GridGeometry<D>& grid, const std::vector<ObjectDesc<D>>& objects, const Camera<D>& camera,
+                        const SceneVelocities<D>* velocities) {
+    validateCamera<D>(camera);
+    json root;
+    root["dimensions"] = D;
+    root["grid"] = {{"origin", vec<D>(grid.origin())}, {"voxel_size", grid.voxelSize()}, {"resolution", json::array()}};
+    for (int a = 0; a < D; ++a) root["grid"]["resolution"].push_back(grid.resolution()[a]);
+    root["camera"] = cameraJson<D>(camera);
+    json list = json::array();
+    for (const ObjectDesc<D>& d : objects) {
+        const std::string field = "object " + std::to_string(d.id);
+        Shape<D> shape = d.shape;
+        validateShape<D>(shape, field);
+        json o;
+        o["id"] = d.id;
+        writeShape<D>(o, shape);
+        if (d.isStatic) {
+            o["static"] = true;
+        } else {
+            if (!std::isfinite(d.maxSpeed) || d.maxSpeed < 0) throw InvalidInput(field + ".max_speed", "must be finite and >= 0");
+            o["max_speed"] = d.maxSpeed;
+        }
+        if (velocities) {
+            if (auto it = velocities->find(d.id); it != velocities->end()) {
+                const Vec<D>& v = it->second;
+                if (!allFinite<D>(v)) throw InvalidInput(field + ".velocity", "must be finite");
+                const double speed = std::sqrt(lengthSquared<D>(v));
+                if (d.isStatic && speed != 0) throw InvalidInput(field + ".velocity", "a static object cannot move");
+                if (speed > d.maxSpeed && !d.isStatic)
+                    throw InvalidInput(field + ".velocity", "longer than the object's max_speed " + std::to_string(d.maxSpeed));
+                o["velocity"] = vec<D>(v);
+            }
+        }
+        if (d.role != ObjectRole::Both) o["role"] = toString(d.role);
+        if (d.occluderInset != 0) o["occluder_inset"] = d.occluderInset;
+        list.push_back(std::move(o));
+    }
+    root["objects"] = std::move(list);
+    return root.dump(1) + "\n";
+}
+
+template <int D> std::string sceneToJson(const Culler<D>& culler, const Camera<D>& camera, const SceneVelocities<D>* velocities) {
+    return sceneToJson<D>(culler.grid(), culler.objects(), camera, velocities);
+}
+
+template <int D>
+void writeSceneFile(const std::string& path, const Culler<D>& culler, const Camera<D>& camera, const SceneVelocities<D>* velocities) {
+    const std::string text = sceneToJson<D>(culler, camera, velocities);
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    if (!out) throw SceneError(path, "file", "cannot be opened for writing");
+    out << text;
+    out.flush();
+    if (!out) throw SceneError(path, "file", "could not be written");
+}
+
+template std::string sceneToJson<2>(const GridGeometry<2>&, const std::vector<ObjectDesc<2>>&, const Camera<2>&, const SceneVelocities<2>*);
+template std::string sceneToJson<3>(const GridGeometry<3>&, const std::vector<ObjectDesc<3>>&, const Camera<3>&, const SceneVelocities<3>*);
+template std::string sceneToJson<2>(const Culler<2>&, const Camera<2>&, const SceneVelocities<2>*);
+template std::string sceneToJson<3>(const Culler<3>&, const Camera<3>&, const SceneVelocities<3>*);
+template void writeSceneFile<2>(const std::string&, const Culler<2>&, const Camera<2>&, const SceneVelocities<2>*);
+template void writeSceneFile<3>(const std::string&, const Culler<3>&, const Camera<3>&, const SceneVelocities<3>*);
+
+} // namespace rgvc
