@@ -688,6 +688,9 @@ TEST_CASE("bad obb and hull objects name their field", "[scene][polytope]") {
     CHECK(reject(two) == "objects[3].shape");
     two["objects"][3]["shape"] = "obb";
     CHECK(reject(two) == "objects[3].shape");
+}
+
+// ---------------------------------------------------------------------------------------------------
 // The scene writer (SceneWriter.hpp): a culler's scene dumped and loaded again culls to the same PVS.
 
 namespace {

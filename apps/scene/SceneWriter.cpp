@@ -41,6 +41,13 @@ template <int D> void writeShape(json& o, const Shape<D>& shape) {
                 json pts = json::array();
                 for (const Vec2& p : s.points) pts.push_back(vec<2>(p));
                 o["points"] = std::move(pts);
+            } else if constexpr (std::is_same_v<T, ConvexPolytope>) {
+                // Oriented boxes and hulls are both polytopes once loaded: written as the hull of the
+                // vertices (an obb's 8 corners), which the loader rebuilds into the same solid.
+                o["shape"] = "hull";
+                json pts = json::array();
+                for (const Vec3& p : s.vertices) pts.push_back(vec<3>(p));
+                o["points"] = std::move(pts);
             } else {
                 static_assert(sizeof(T) == 0, "sceneToJson: a Shape<D> alternative the scene writer does not handle");
             }

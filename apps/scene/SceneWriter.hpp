@@ -7,7 +7,7 @@
 //
 // What is written: every object of Culler::objects() (sorted by id) at the placement the culler knows,
 // `static` for objects added static, `max_speed` for the others (their TBVs are sized from it), a
-// `velocity` where the caller gives one, `role` and `occluder_inset` when not the defaults; the camera
+// `velocity` where the caller gives one (oriented boxes and hulls as `hull` of their vertices), `role` and `occluder_inset` when not the defaults; the camera
 // in full (3D: `up` as the culler reads it, cameraUp, so that a top view with the default up replays;
 // `far` when finite). Numbers are written to round trip exactly (the shortest decimal that reads back as
 // the same double), so loading the file and culling the same camera gives the same PVS (test_scene_file).
