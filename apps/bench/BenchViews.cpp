@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
     }
     SerialExecutor one;
     TbbExecutor tbb(threads);
-    std::vector<double> wallS, wallP, cpuS, cpuP, updateS;
+    std::vector<double> wallS, wallP, cpuS, cpuP, updateS, passesS;
     std::vector<Camera3> cams(static_cast<std::size_t>(views));
     std::size_t pvs = 0;
     for (int f = 0; f < frames; ++f) {
@@ -94,6 +94,9 @@ int main(int argc, char** argv) {
             (doSerial ? cpuS : cpuP).push_back(cpu);
         }
         updateS.push_back(rs->scene.updateMs);
+        double passes = 0;
+        for (const CullResult& v : rs->views) passes += v.stats.cullMs;
+        passesS.push_back(passes);
         for (int v = 0; v < views; ++v) {
             if (rs->views[std::size_t(v)].pvs != rp->views[std::size_t(v)].pvs) {
                 std::fprintf(stderr, "rgvc_bench_views: frame %d view %d: the PVS differs between the executors\n", f, v);
@@ -109,7 +112,19 @@ int main(int argc, char** argv) {
                 percentile(wallS, 0.9), percentile(cpuS, 0.5), percentile(updateS, 0.5));
     std::printf("  TBB executor:    median %.2f ms (p90 %.2f), CPU %.2f ms per frame\n", mP, percentile(wallP, 0.9),
                 percentile(cpuP, 0.5));
+    // Amdahl: the scene update and the reveals run on one thread, the passes on `threads`.
+    const double passes = percentile(passesS, 0.5), serialPart = std::max(0.0, mS - passes);
+    std::printf("  view passes (serial run): median %.2f ms of the frame, the rest %.2f ms; bound on %d threads %.2fx\n",
+                passes, serialPart, threads, mS / (serialPart + passes / std::min(threads, views)));
     std::printf("  speed-up (median wall) %.2fx; mean |PVS| per view %.1f; same PVS in every frame\n", mS / mP,
                 double(pvs) / double(frames * views));
+    std::printf("  load average when done: %s", [] {
+        static char buf[128] = "?\n";
+        if (FILE* f = std::fopen("/proc/loadavg", "r")) {
+            if (!std::fgets(buf, sizeof buf, f)) std::snprintf(buf, sizeof buf, "?\n");
+            std::fclose(f);
+        }
+        return buf;
+    }());
     return 0;
 }
