@@ -31,7 +31,15 @@
 // --tbv picks how the cullers hold hidden moving spheres (CullerOptions::tbvDiscretization; off: no TBVs,
 // every sphere stays in O and I); --tbv-max-growth sets CullerOptions::tbvMaxGrowth (0: the default). The spheres are moved with updateObject (push): a hidden sphere whose
 // new placement stays inside its TBV costs O(1).
+//
+// With --figure 5a|5b|5c|6|all (or --quick, which is --figure all at small sizes) it reproduces the
+// paper's Figures 5 and 6 with the GL stage instead, headless through OSMesa: Figures3D.hpp (built when
+// RGVC_WITH_GL is on).
 #include "rgvc/dynamics/Culler.hpp"
+
+#ifdef RGVC_HAS_GL
+#include "Figures3D.hpp"
+#endif
 
 #include "BenchSupport.hpp"
 
@@ -273,6 +281,17 @@ void runAccuracy(const std::vector<Setting>& settings, int frames, const ref::Vi
 } // namespace
 
 int main(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--figure" || a == "--quick") {
+#ifdef RGVC_HAS_GL
+            return runFigures(parseFigureConfig(argc, argv));
+#else
+            std::fprintf(stderr, "rgvc_bench3d: %s needs the GL stage (configure with -DRGVC_WITH_GL=ON)\n", a.c_str());
+            return 2;
+#endif
+        }
+    }
     std::string scenario = "all";
     // Defaults keep `all` under about two minutes on one idle core; figures worth quoting come from longer
     // runs: --scenario paper100 --frames 200 --repeats 3, --scenario large --frames 10,
@@ -338,7 +357,9 @@ int main(int argc, char** argv) {
             std::fprintf(stderr,
                          "usage: rgvc_bench3d [--scenario paper50|paper100|large|accuracy|all] [--frames N] [--repeats R] "
                          "[--accuracy-frames N] [--reference-grid N] [--reference-targets N] [--spheres N] [--large-spheres N] "
-                         "[--seed S] [--tbv boundary|shell|filled|off] [--tbv-max-growth G] [--buffer-rows R]\n");
+                         "[--seed S] [--tbv boundary|shell|filled|off] [--tbv-max-growth G] [--buffer-rows R]\n"
+                         "       rgvc_bench3d --figure 5a|5b|5c|6|all [--quick] [--out DIR] ... (the paper's Figures 5 "
+                         "and 6 with the GL stage; --figure all --help lists its options)\n");
             return a == "--help" || a == "-h" ? 0 : 2;
         }
     }

@@ -13,30 +13,18 @@
 //   sw         hierarchical stop-and-wait over every object
 //   ideal      exactly the objects the item buffer shows (found untimed, then drawn and timed)
 // Each frame also checks that every object the item buffer shows was drawn by every method (misses,
-// must be 0). The grid culler gets each ball's occluder inset to the drawn mesh (GlStage.hpp's reason).
+// must be 0; exit 1 otherwise). The comparison itself is GlWalk.hpp, shared with rgvc_bench3d --figure.
 //
 //   rgvc_bench_gl [--frames N] [--size WxH] [--grid 100|50] [--static S] [--csv FILE] [--quick]
 //                 [--methods zb,vfc,rgvc,rgvc+chc,chc,sw,ideal]   (default: all, in that order)
 #include "BenchSupport.hpp"
-
-#include "RandomScenes3D.hpp"
-#include "rgvc/dynamics/Culler.hpp"
-#include "rgvc/render/Chc.hpp"
-#include "rgvc/render/ObjectBvh.hpp"
-#include "rgvc/render/gl/GlContext.hpp"
-#include "rgvc/render/gl/GlQueryDevice.hpp"
-#include "rgvc/render/gl/ItemBuffer.hpp"
-#include "rgvc/render/gl/SceneRenderer.hpp"
-
-#include <unistd.h>
+#include "GlWalk.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
-#include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -50,18 +38,6 @@ struct Config {
     int frames = 150, width = 640, height = 480, gridRes = 100, statics = 4800, spheres = 5000;
     std::string csv;
     std::string methods = "zb,vfc,rgvc,rgvc+chc,chc,sw,ideal"; // --methods: a comma-separated subset
-};
-
-struct Method {
-    const char* name;
-    CullMethod gl;  // what the GL stage does with the candidates
-    bool grid;      // candidates: the grid culler's PVS (else every object)
-    bool ideal;     // candidates: the item buffer's visible set
-    std::unique_ptr<Culler3D> culler;
-    std::unique_ptr<ChcRenderer> chc;
-    std::vector<double> ms, cullMs;
-    std::vector<std::uint32_t> queries, drawn, candidates;
-    std::uint64_t misses = 0;
 };
 
 [[noreturn]] void usage(const char* why) {
@@ -100,149 +76,47 @@ Config parse(int argc, char** argv) {
     return c;
 }
 
-double median(std::vector<double> v) { return percentile(std::move(v), 0.5); }
-double mean(const std::vector<std::uint32_t>& v) {
-    double s = 0;
-    for (auto x : v) s += x;
-    return v.empty() ? 0 : s / double(v.size());
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
     const Config cfg = parse(argc, argv);
     try {
-        ref::MovingSpheres3D scene = ref::movingSpheres3D(7, cfg.spheres);
-        for (int i = 0; i < cfg.statics; ++i) {
-            scene.velocity[std::size_t(i)] = Vec3(0.0);
-            scene.objects[std::size_t(i)].isStatic = true;
-            scene.objects[std::size_t(i)].maxSpeed = 0;
-        }
-        auto context = createOsMesaContext(cfg.width, cfg.height);
-        SceneRenderer renderer(*context);
-        GlQueryDevice device(renderer, cfg.width, cfg.height);
-        ObjectBvh bvh;
-        std::vector<BvhItem> items;
-        for (const ObjectDesc<3>& o : scene.objects) {
-            renderer.setObject(o.id, o.shape);
-            items.push_back({o.id, boundsOf<3>(o.shape)});
-        }
-        bvh.build(items);
+        ref::MovingSpheres3D scene = paperWalkScene(cfg.spheres, cfg.statics);
         const GridGeometry3 grid(scene.grid.origin(), scene.grid.voxelSize() * 100.0 / cfg.gridRes,
                                  IVec3{cfg.gridRes, cfg.gridRes * 6 / 10, cfg.gridRes});
-
-        std::vector<Method> methods;
-        {
-            // The combinations, chosen by --methods (each name once, in the order given).
-            std::string list = cfg.methods + ",";
-            for (std::size_t start = 0, comma; (comma = list.find(',', start)) != std::string::npos; start = comma + 1) {
-                const std::string name = list.substr(start, comma - start);
-                bool dup = false;
-                for (const Method& m : methods) dup = dup || name == m.name;
-                if (name.empty() || dup) continue;
-                if (name == "zb") methods.push_back({"zb", CullMethod::Zb, false, false, {}, {}, {}, {}, {}, {}, {}, 0});
-                else if (name == "vfc") methods.push_back({"vfc", CullMethod::Vfc, false, false, {}, {}, {}, {}, {}, {}, {}, 0});
-                else if (name == "rgvc") methods.push_back({"rgvc", CullMethod::Zb, true, false, {}, {}, {}, {}, {}, {}, {}, 0});
-                else if (name == "rgvc+chc")
-                    methods.push_back({"rgvc+chc", CullMethod::ChcPlusPlus, true, false, {}, {}, {}, {}, {}, {}, {}, 0});
-                else if (name == "chc") methods.push_back({"chc", CullMethod::ChcPlusPlus, false, false, {}, {}, {}, {}, {}, {}, {}, 0});
-                else if (name == "sw") methods.push_back({"sw", CullMethod::StopAndWait, false, false, {}, {}, {}, {}, {}, {}, {}, 0});
-                else if (name == "ideal") methods.push_back({"ideal", CullMethod::Ideal, false, true, {}, {}, {}, {}, {}, {}, {}, 0});
-                else usage(("--methods: unknown method '" + name + "'").c_str());
-            }
-            if (methods.empty()) usage("--methods: no method given");
+        std::vector<GlMethodSpec> specs;
+        try {
+            specs = parseGlMethods(cfg.methods, grid);
+        } catch (const std::invalid_argument& e) {
+            usage((std::string("--methods: ") + e.what()).c_str());
         }
-        for (Method& m : methods) {
-            m.chc = std::make_unique<ChcRenderer>(device, bvh, ChcOptions{.queryMinCandidates = 32});
-            if (m.grid) {
-                m.culler = std::make_unique<Culler3D>(grid);
-                for (ObjectDesc<3> o : scene.objects) {
-                    o.occluderInset = renderer.occluderInset(o.shape);
-                    m.culler->addObject(o);
-                }
-            }
-        }
-        std::printf("rgvc_bench_gl on %s, one thread; %s\n", machine().c_str(), context->description().c_str());
-        std::printf("scene: %d spheres (%d static, %d moving) of %zu triangles in 100x60x100 units, grid %dx%dx%d, "
+        GlWalk walk(scene.objects, std::move(specs), {.width = cfg.width, .height = cfg.height});
+        std::printf("rgvc_bench_gl on %s, one thread; %s\n", machine().c_str(), walk.context().description().c_str());
+        std::printf("scene: %d spheres (%d static, %d moving) of %zu triangles in 100x60x100 units, grid %s, "
                     "%dx%d pixels, %d frames of the walk\n", cfg.spheres, cfg.statics, cfg.spheres - cfg.statics,
-                    SceneRendererOptions{}.sphere.indices.size() / 3, grid.resolution().x, grid.resolution().y, grid.resolution().z,
-                    cfg.width, cfg.height, cfg.frames);
-        const bool tty = isatty(1) != 0;
-        std::vector<std::uint32_t> visibleCounts;
+                    walk.renderer().sphereMesh().triangleCount(), resolutionLabel(grid).c_str(), cfg.width, cfg.height,
+                    cfg.frames);
+        const std::span<const ObjectDesc<3>> moving(scene.objects.data() + cfg.statics, scene.objects.size() - std::size_t(cfg.statics));
+        ProgressBar progress("  walk", cfg.frames);
         for (int f = 0; f < cfg.frames; ++f) {
             if (f > 0) {
                 ref::stepMovingSpheres(scene);
-                for (std::size_t i = std::size_t(cfg.statics); i < scene.objects.size(); ++i) {
-                    const ObjectDesc<3>& o = scene.objects[i];
-                    renderer.setObject(o.id, o.shape);
-                    bvh.update(o.id, boundsOf<3>(o.shape));
-                    for (Method& m : methods)
-                        if (m.culler) m.culler->updateObject(o.id, o.shape);
-                }
-                bvh.rebuildIfDegraded();
+                walk.moveObjects(moving);
             }
-            const Camera3 cam = ref::movingSpheresCamera(scene, f, cfg.frames);
-            const ItemBufferImage img = itemBuffer(renderer, cam, cfg.width, cfg.height);
-            visibleCounts.push_back(std::uint32_t(img.visible.size()));
-            for (std::size_t k = 0; k < methods.size(); ++k) {
-                Method& m = methods[(k + std::size_t(f)) % methods.size()];
-                const auto t0 = std::chrono::steady_clock::now();
-                double cullMs = 0;
-                const ChcFrameStats* s;
-                if (m.grid) {
-                    const CullResult& r = m.culler->cull(cam);
-                    cullMs = r.stats.cullMs;
-                    m.candidates.push_back(std::uint32_t(r.pvs.size()));
-                    s = &m.chc->render(cam, m.gl, r.pvs);
-                } else if (m.ideal) {
-                    m.candidates.push_back(std::uint32_t(img.visible.size()));
-                    s = &m.chc->render(cam, m.gl, img.visible);
-                } else {
-                    m.candidates.push_back(std::uint32_t(scene.objects.size()));
-                    s = &m.chc->renderAll(cam, m.gl);
-                }
-                m.ms.push_back(msSince(t0));
-                m.cullMs.push_back(cullMs);
-                m.queries.push_back(s->queries());
-                m.drawn.push_back(s->objectsDrawn);
-                std::vector<ObjectId> drawn = s->drawn;
-                std::sort(drawn.begin(), drawn.end());
-                for (ObjectId id : img.visible)
-                    if (!std::binary_search(drawn.begin(), drawn.end(), id)) ++m.misses;
-            }
-            if (tty) {
-                std::printf("\r  frame %d/%d", f + 1, cfg.frames);
-                std::fflush(stdout);
-            }
+            walk.frame(ref::movingSpheresCamera(scene, f, cfg.frames));
+            progress.update(f + 1);
         }
-        if (tty) std::printf("\n");
-
-        double zb = 0; // the "x ZB" column needs ZB in the run
-        for (const Method& m : methods)
-            if (std::strcmp(m.name, "zb") == 0) zb = median(m.ms);
-        double visible = mean(visibleCounts);
-        std::printf("\n| method | median frame ms | p95 ms | x ZB | grid cull ms | queries/frame | drawn/frame | "
-                    "drawn / visible | misses |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|\n");
-        for (const Method& m : methods) {
-            const double med = median(m.ms);
-            std::printf("| %s | %.2f | %.2f | %.1f | %.3f | %.1f | %.1f | %.2f | %llu |\n", m.name, med,
-                        percentile(m.ms, 0.95), zb > 0 ? zb / med : 0.0, median(m.cullMs), mean(m.queries), mean(m.drawn),
-                        visible > 0 ? mean(m.drawn) / visible : 0.0, (unsigned long long)m.misses);
-        }
-        std::printf("mean |visible| (item buffer at %dx%d): %.1f\n", cfg.width, cfg.height, visible);
+        progress.finish();
+        std::printf("\n");
+        walk.printSummary(stdout);
         if (!cfg.csv.empty()) {
             std::ofstream out(cfg.csv);
             out << "# rgvc_bench_gl spheres=" << cfg.spheres << " static=" << cfg.statics << " grid=" << cfg.gridRes
                 << " size=" << cfg.width << "x" << cfg.height << " frames=" << cfg.frames << "\n";
-            out << "frame,method,frame_ms,cull_ms,queries,drawn,candidates,visible\n";
-            for (const Method& m : methods)
-                for (int f = 0; f < cfg.frames; ++f)
-                    out << f << ',' << m.name << ',' << m.ms[std::size_t(f)] << ',' << m.cullMs[std::size_t(f)] << ','
-                        << m.queries[std::size_t(f)] << ',' << m.drawn[std::size_t(f)] << ','
-                        << m.candidates[std::size_t(f)] << ',' << visibleCounts[std::size_t(f)] << '\n';
+            out << GlWalk::csvHeader() << "\n";
+            walk.writeCsvRows(out, "");
         }
-        std::uint64_t misses = 0;
-        for (const Method& m : methods) misses += m.misses;
+        const std::uint64_t misses = walk.totalMisses();
         std::printf("misses: %llu\n", (unsigned long long)misses);
         return misses == 0 ? 0 : 1;
     } catch (const GlError& e) {

@@ -1,14 +1,18 @@
-// Timing and machine helpers shared by the benchmarks (rgvc_bench2d, rgvc_bench3d, rgvc_bench_dynamic).
+// Timing, machine and progress helpers shared by the benchmarks (rgvc_bench2d, rgvc_bench3d,
+// rgvc_bench_dynamic, rgvc_bench_gl).
 #pragma once
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <time.h>
+#include <unistd.h>
 
 namespace rgvc::bench {
 
@@ -49,5 +53,48 @@ inline std::string machine() {
         if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
     return "unknown CPU";
 }
+
+/// A one-line progress bar on stdout, rewritten in place with '\r', for runs of minutes. Silent when
+/// stdout is not a terminal (isatty), so that logs and CSV redirections stay clean.
+class ProgressBar {
+public:
+    /// `total` steps ([Limit] >= 1; smaller is taken as 1), `label` printed before the bar.
+    ProgressBar(std::string label, long total)
+        : m_label(std::move(label)), m_total(std::max(1L, total)), m_enabled(isatty(1) != 0),
+          m_start(std::chrono::steady_clock::now()) {}
+    ~ProgressBar() { finish(); }
+    ProgressBar(const ProgressBar&) = delete;
+    ProgressBar& operator=(const ProgressBar&) = delete;
+
+    /// Sets the steps done (clamped to the total) and redraws; `note` goes after the bar (e.g. "N=5000").
+    void update(long done, const std::string& note = {}) {
+        if (!m_enabled || m_finished) return;
+        done = std::clamp(done, 0L, m_total);
+        constexpr int kWidth = 30;
+        const int filled = int(double(done) / double(m_total) * kWidth);
+        std::string bar(std::size_t(filled), '#');
+        bar.resize(kWidth, '.');
+        const double s = msSince(m_start) / 1000.0;
+        // The elapsed time, and the remaining time from the mean step time so far.
+        const double eta = done > 0 ? s * double(m_total - done) / double(done) : 0.0;
+        std::printf("\r%s [%s] %ld/%ld %.0fs, ~%.0fs left %s\033[K", m_label.c_str(), bar.c_str(), done, m_total, s, eta,
+                    note.c_str());
+        std::fflush(stdout);
+    }
+    /// Ends the line (once); later updates are ignored.
+    void finish() {
+        if (m_enabled && !m_finished) {
+            std::printf("\n");
+            std::fflush(stdout);
+        }
+        m_finished = true;
+    }
+
+private:
+    std::string m_label;
+    long m_total;
+    bool m_enabled, m_finished = false;
+    std::chrono::steady_clock::time_point m_start;
+};
 
 } // namespace rgvc::bench
