@@ -173,7 +173,7 @@ void GlWalk::printSummary(std::FILE* out) const {
     const double zbMs = zb ? percentile(zb->ms, 0.5) : 0.0; // the "x ZB" column needs ZB in the run
     const double visible = mean(m_visible);
     std::fprintf(out, "| method | median frame ms | p95 ms | x ZB | grid cull ms | queries/frame | drawn/frame | "
-                      "|PVS|/|visible| | drawn/|visible| | misses |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
+                      "PVS/visible | drawn/visible | misses |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
     for (const GlMethodRecord& m : m_methods) {
         const double med = percentile(m.ms, 0.5);
         // |PVS|: what the culling stage keeps, the grid's set for RGVC alone, what is drawn otherwise.
