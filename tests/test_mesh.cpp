@@ -1,0 +1,377 @@
+// Triangle meshes (grid/TriangleMesh.hpp): validation, closedness, and the conservative voxelization
+// against brute force (sample points of every O voxel inside the analytic solid, no triangle meeting an
+// O voxel, every voxel a triangle touches in I by Akenine-Moller's separating-axis test).
+#include "rgvc/grid/ConservativeRaster.hpp"
+#include "rgvc/grid/Error.hpp"
+#include "rgvc/grid/TriangleMesh.hpp"
+#include "reference/SeededRandom.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cmath>
+#include <functional>
+#include <set>
+#include <tuple>
+
+using namespace rgvc;
+namespace sr = rgvc::reference::seeded;
+
+namespace {
+
+using Key = std::tuple<int, int, int>;
+
+/// A box given by its centre, three orthonormal axes and half extents, as 12 outward triangles.
+void appendBox(TriangleMesh& m, const Vec3& c, const std::array<Vec3, 3>& ax, const Vec3& h, bool inward = false) {
+    const std::uint32_t base = std::uint32_t(m.positions.size());
+    for (int i = 0; i < 8; ++i)
+        m.positions.push_back(c + ax[0] * (i & 1 ? h.x : -h.x) + ax[1] * (i & 2 ? h.y : -h.y) + ax[2] * (i & 4 ? h.z : -h.z));
+    // Faces as quads (corner bits), counter-clockwise seen from outside for a right-handed frame.
+    const int q[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    for (const auto& f : q) {
+        std::array<std::uint32_t, 3> t0{base + f[0], base + f[1], base + f[2]}, t1{base + f[0], base + f[2], base + f[3]};
+        if (inward) {
+            std::swap(t0[1], t0[2]);
+            std::swap(t1[1], t1[2]);
+        }
+        m.triangles.push_back(t0);
+        m.triangles.push_back(t1);
+    }
+}
+
+std::array<Vec3, 3> randomFrame(std::mt19937_64& rng) {
+    // A random rotation from a random unit quaternion.
+    double q[4], n = 0;
+    for (double& v : q) {
+        v = sr::uniform(rng, -1, 1);
+        n += v * v;
+    }
+    n = std::sqrt(n);
+    const double x = q[0] / n, y = q[1] / n, z = q[2] / n, w = q[3] / n;
+    return {Vec3{1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y)},
+            Vec3{2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)},
+            Vec3{2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)}};
+}
+
+struct Solid {
+    TriangleMesh mesh;
+    std::function<bool(const Vec3&, double)> inside; ///< p inside the closed solid grown by eps
+};
+
+struct BoxDesc {
+    Vec3 c, h;
+    std::array<Vec3, 3> ax;
+};
+bool inBox(const BoxDesc& b, const Vec3& p, double eps) {
+    const Vec3 d = p - b.c;
+    for (int i = 0; i < 3; ++i)
+        if (std::abs(glm::dot(d, b.ax[i])) > b.h[i] + eps) return false;
+    return true;
+}
+
+/// Random solids: one turned box, two disjoint turned boxes, or a hollow box (an inward box inside).
+Solid randomSolid(std::mt19937_64& rng, int kind) {
+    Solid s;
+    auto box = [&](double lo, double hi) {
+        BoxDesc b{Vec3{sr::uniform(rng, 8, 24), sr::uniform(rng, 8, 24), sr::uniform(rng, 8, 24)},
+                  Vec3{sr::uniform(rng, lo, hi), sr::uniform(rng, lo, hi), sr::uniform(rng, lo, hi)}, randomFrame(rng)};
+        return b;
+    };
+    if (kind == 0) {
+        BoxDesc b = box(1, 7);
+        appendBox(s.mesh, b.c, b.ax, b.h);
+        s.inside = [b](const Vec3& p, double e) { return inBox(b, p, e); };
+    } else if (kind == 1) {
+        BoxDesc a = box(1, 4);
+        BoxDesc b = a;
+        b.c = a.c + Vec3{11, 0, 0};
+        b.ax = randomFrame(rng);
+        appendBox(s.mesh, a.c, a.ax, a.h);
+        appendBox(s.mesh, b.c, b.ax, b.h);
+        s.inside = [a, b](const Vec3& p, double e) { return inBox(a, p, e) || inBox(b, p, e); };
+    } else {
+        BoxDesc outer = box(5, 8);
+        BoxDesc inner = outer;
+        inner.h = outer.h * 0.5;
+        appendBox(s.mesh, outer.c, outer.ax, outer.h);
+        appendBox(s.mesh, inner.c, inner.ax, inner.h, true);
+        s.inside = [outer, inner](const Vec3& p, double e) { return inBox(outer, p, e) && !inBox(inner, p, -e); };
+    }
+    return s;
+}
+
+/// Akenine-Moller's triangle/box overlap (13 separating axes), box centre c and half size h.
+bool triBoxOverlap(const Vec3& c, double h, const Vec3& a, const Vec3& b, const Vec3& d) {
+    const Vec3 v[3] = {a - c, b - c, d - c};
+    const Vec3 e[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
+    auto separated = [&](const Vec3& axis) {
+        const double p0 = glm::dot(v[0], axis), p1 = glm::dot(v[1], axis), p2 = glm::dot(v[2], axis);
+        const double r = h * (std::abs(axis.x) + std::abs(axis.y) + std::abs(axis.z));
+        return std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r;
+    };
+    for (int i = 0; i < 3; ++i) {
+        Vec3 u{0.0};
+        u[i] = 1;
+        if (separated(u)) return false;
+        for (const Vec3& ed : e)
+            if (separated(glm::cross(u, ed))) return false;
+    }
+    return !separated(glm::cross(e[0], e[1]));
+}
+
+std::set<Key> spansToSet(const std::vector<VoxelRowSpan>& spans) {
+    std::set<Key> r;
+    for (const auto& s : spans)
+        for (int x = s.x0; x <= s.x1; ++x) r.insert({x, s.y, s.z});
+    return r;
+}
+
+void checkSpansWellFormed(const std::vector<VoxelRowSpan>& spans, const IVec3& res) {
+    for (std::size_t i = 0; i < spans.size(); ++i) {
+        const auto& s = spans[i];
+        REQUIRE(s.x0 <= s.x1);
+        REQUIRE(s.x0 >= 0);
+        REQUIRE(s.x1 < res.x);
+        REQUIRE((s.y >= 0 && s.y < res.y && s.z >= 0 && s.z < res.z));
+        if (i > 0) {
+            const auto& p = spans[i - 1];
+            const bool sameRow = p.y == s.y && p.z == s.z;
+            REQUIRE((p.z < s.z || (p.z == s.z && p.y < s.y) || (sameRow && p.x1 + 1 < s.x0)));
+        }
+    }
+}
+
+} // namespace
+
+TEST_CASE("Mesh validation names the field and the problem", "[grid][mesh]") {
+    TriangleMesh m;
+    appendBox(m, Vec3{0.0}, {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}}, Vec3{1.0});
+    REQUIRE_NOTHROW(validateMesh(m, "objects[0]"));
+    auto message = [](const TriangleMesh& bad) {
+        try {
+            validateMesh(bad, "objects[0]");
+        } catch (const InvalidInput& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    TriangleMesh nan = m;
+    nan.positions[3].y = std::nan("");
+    CHECK(message(nan) == "objects[0].positions: vertex 3 is not finite");
+    TriangleMesh inf = m;
+    inf.positions[0].x = HUGE_VAL;
+    CHECK(message(inf).find("not finite") != std::string::npos);
+    TriangleMesh range = m;
+    range.triangles[5][1] = 8;
+    CHECK(message(range) == "objects[0].indices: triangle 5 uses vertex 8 of 8");
+    TriangleMesh repeat = m;
+    repeat.triangles[2][2] = repeat.triangles[2][0];
+    CHECK(message(repeat) == "objects[0].indices: triangle 2 repeats a vertex");
+    TriangleMesh empty;
+    CHECK(message(empty) == "objects[0].indices: a mesh needs at least one triangle");
+}
+
+TEST_CASE("Mesh closedness: boundary, non-manifold and misoriented edges", "[grid][mesh]") {
+    TriangleMesh cube;
+    appendBox(cube, Vec3{0.0}, {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}}, Vec3{1.0});
+    MeshTopology t = analyzeMeshTopology(cube);
+    CHECK(t.closed());
+    CHECK(t.edges == 18);
+
+    TriangleMesh open = cube;
+    open.triangles.pop_back();
+    t = analyzeMeshTopology(open);
+    CHECK_FALSE(t.closed());
+    CHECK(t.boundaryEdges == 3);
+
+    TriangleMesh flipped = cube;
+    std::swap(flipped.triangles[0][1], flipped.triangles[0][2]);
+    t = analyzeMeshTopology(flipped);
+    CHECK_FALSE(t.closed());
+    CHECK(t.misorientedEdges == 3);
+
+    TriangleMesh doubled = cube;
+    doubled.triangles.push_back(cube.triangles[0]);
+    t = analyzeMeshTopology(doubled);
+    CHECK_FALSE(t.closed());
+    CHECK(t.nonManifoldEdges == 3);
+
+    // Split seams (one vertex per face corner, as OBJ/glTF exporters write them) are open until welded.
+    TriangleMesh split;
+    for (const auto& tri : cube.triangles) {
+        const std::uint32_t b = std::uint32_t(split.positions.size());
+        for (std::uint32_t v : tri) split.positions.push_back(cube.positions[v]);
+        split.triangles.push_back({b, b + 1, b + 2});
+    }
+    CHECK_FALSE(analyzeMeshTopology(split).closed());
+    weldMeshVertices(split);
+    CHECK(split.positions.size() == 8);
+    CHECK(analyzeMeshTopology(split).closed());
+
+    // Both consistent orientations are closed (the solid is where the winding number is non-zero).
+    TriangleMesh inward;
+    appendBox(inward, Vec3{0.0}, {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}}, Vec3{1.0}, true);
+    CHECK(analyzeMeshTopology(inward).closed());
+}
+
+TEST_CASE("Mesh voxelization of an axis-aligned box equals the box's raster", "[grid][mesh]") {
+    const IVec3 res{32, 32, 32};
+    for (int orient = 0; orient < 2; ++orient)
+        for (const auto& [lo, hi] : std::vector<std::pair<Vec3, Vec3>>{{Vec3{4, 5, 6}, Vec3{20, 12, 17}},
+                                                                       {Vec3{3.3, 4.7, 5.5}, Vec3{19.2, 12.5, 16.9}},
+                                                                       {Vec3{-5, 2, 3}, Vec3{40, 9.5, 10}}}) {
+            TriangleMesh m;
+            appendBox(m, (lo + hi) * 0.5, {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}}, (hi - lo) * 0.5, orient == 1);
+            MeshVoxelization vox;
+            std::set<Key> want;
+            for (bool inner : {true, false}) {
+                voxelizeMesh(m, res, true, inner, kConservativeSlack, vox);
+                checkSpansWellFormed(vox.spans, res);
+                want.clear();
+                const Shape<3> box = Box<3>{lo, hi};
+                auto add = [&](const IVec3& v) { want.insert({v.x, v.y, v.z}); };
+                if (inner) forEachInnerVoxel<3>(box, res, add);
+                else forEachTouchedVoxel<3>(box, res, add);
+                INFO("box " << lo.x << " " << lo.y << " " << lo.z << " .. " << hi.x << " " << hi.y << " " << hi.z
+                            << (inner ? " inner" : " touched") << " orientation " << orient);
+                CHECK(spansToSet(vox.spans) == want);
+            }
+        }
+}
+
+TEST_CASE("Mesh voxelization against brute force on random closed solids", "[grid][mesh]") {
+    const IVec3 res{32, 30, 34};
+    MeshVoxelization vox;
+    std::size_t innerTotal = 0, bruteTotal = 0;
+    for (std::uint64_t seed = 1; seed <= 60; ++seed) {
+        INFO("seed " << seed);
+        std::mt19937_64 rng(seed);
+        const int kind = int(seed % 3);
+        Solid s = randomSolid(rng, kind);
+        REQUIRE(analyzeMeshTopology(s.mesh).closed());
+        voxelizeMesh(s.mesh, res, true, true, kConservativeSlack, vox);
+        checkSpansWellFormed(vox.spans, res);
+        const std::set<Key> inner = spansToSet(vox.spans);
+        voxelizeMesh(s.mesh, res, true, false, kConservativeSlack, vox);
+        checkSpansWellFormed(vox.spans, res);
+        const std::set<Key> touched = spansToSet(vox.spans);
+
+        // O: 27 points of every voxel (corners, edge and face midpoints, centre) inside the solid, and no
+        // triangle meets the voxel shrunk by 1e-6.
+        for (const auto& [x, y, z] : inner) {
+            for (int k = 0; k < 27; ++k) {
+                const Vec3 p{x + 0.5 * (k % 3), y + 0.5 * (k / 3 % 3), z + 0.5 * (k / 9)};
+                REQUIRE(s.inside(p, 1e-9));
+            }
+            for (const auto& t : s.mesh.triangles)
+                REQUIRE_FALSE(triBoxOverlap(Vec3{x + 0.5, y + 0.5, z + 0.5}, 0.5 - 1e-6, s.mesh.positions[t[0]],
+                                            s.mesh.positions[t[1]], s.mesh.positions[t[2]]));
+            REQUIRE(touched.count({x, y, z}) == 1);
+        }
+        // I: every voxel a triangle touches (SAT), and every voxel whose centre is inside. And O is tight:
+        // a voxel whose 27 points are inside by a margin of 1e-6 and that no triangle meets is in O.
+        std::size_t brute = 0;
+        for (int z = 0; z < res.z; ++z)
+            for (int y = 0; y < res.y; ++y)
+                for (int x = 0; x < res.x; ++x) {
+                    const Vec3 c{x + 0.5, y + 0.5, z + 0.5};
+                    bool hit = false;
+                    for (const auto& t : s.mesh.triangles)
+                        if (triBoxOverlap(c, 0.5, s.mesh.positions[t[0]], s.mesh.positions[t[1]], s.mesh.positions[t[2]])) {
+                            hit = true;
+                            break;
+                        }
+                    if (hit || s.inside(c, 0)) REQUIRE(touched.count({x, y, z}) == 1);
+                    if (!hit && s.inside(c, -1e-6)) {
+                        ++brute;
+                        REQUIRE(inner.count({x, y, z}) == 1);
+                    }
+                }
+        innerTotal += inner.size();
+        bruteTotal += brute;
+    }
+    INFO("O voxels " << innerTotal << ", brute-force interior voxels " << bruteTotal);
+    CHECK(innerTotal >= bruteTotal);
+    CHECK(bruteTotal > 5000);
+}
+
+TEST_CASE("Mesh voxelization: lines through vertices and along edges count each crossing once", "[grid][mesh]") {
+    // An octahedron with its vertices on voxel-centre lines and a cube turned 45 degrees about x: the
+    // centre lines pass exactly through vertices and along edges (the symbolic perturbation's cases).
+    const IVec3 res{16, 16, 16};
+    MeshVoxelization vox;
+    TriangleMesh oct;
+    const Vec3 c{8.5, 8.5, 8.5};
+    const double r = 6;
+    oct.positions = {c + Vec3{r, 0, 0}, c - Vec3{r, 0, 0}, c + Vec3{0, r, 0}, c - Vec3{0, r, 0}, c + Vec3{0, 0, r}, c - Vec3{0, 0, r}};
+    oct.triangles = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    REQUIRE(analyzeMeshTopology(oct).closed());
+    auto inOct = [&](const Vec3& p, double e) {
+        return std::abs(p.x - c.x) + std::abs(p.y - c.y) + std::abs(p.z - c.z) <= r + e;
+    };
+    voxelizeMesh(oct, res, true, true, kConservativeSlack, vox);
+    const std::set<Key> inner = spansToSet(vox.spans);
+    voxelizeMesh(oct, res, true, false, kConservativeSlack, vox);
+    const std::set<Key> touched = spansToSet(vox.spans);
+    std::size_t brute = 0;
+    for (int z = 0; z < res.z; ++z)
+        for (int y = 0; y < res.y; ++y)
+            for (int x = 0; x < res.x; ++x) {
+                bool all = true, any = false;
+                for (int k = 0; k < 8; ++k) {
+                    const bool in = inOct(Vec3{x + double(k & 1), y + double(k >> 1 & 1), z + double(k >> 2)}, 1e-12);
+                    all = all && in;
+                    any = any || in;
+                }
+                INFO("voxel " << x << " " << y << " " << z);
+                if (inner.count({x, y, z})) REQUIRE(all);
+                if (any) REQUIRE(touched.count({x, y, z}) == 1);
+                // Convex solid: the 8 corners inside means the voxel is inside; a voxel inside only
+                // touching faces at its border is in O.
+                if (all) {
+                    ++brute;
+                    CHECK(inner.count({x, y, z}) == 1);
+                }
+            }
+    CHECK(brute > 100);
+}
+
+TEST_CASE("Open meshes are surfaces: no O, I the touched voxels only", "[grid][mesh]") {
+    TriangleMesh m;
+    appendBox(m, Vec3{10.0}, {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}}, Vec3{5.0});
+    m.triangles.resize(10); // one face missing
+    REQUIRE_FALSE(analyzeMeshTopology(m).closed());
+    MeshVoxelization vox;
+    voxelizeMesh(m, IVec3{24}, false, true, kConservativeSlack, vox);
+    CHECK(vox.spans.empty());
+    voxelizeMesh(m, IVec3{24}, false, false, kConservativeSlack, vox);
+    const std::set<Key> touched = spansToSet(vox.spans);
+    CHECK(touched.count({10, 10, 10}) == 0); // the inside is not part of a surface
+    CHECK(touched.count({5, 10, 10}) == 1);  // a face is
+    for (const auto& [x, y, z] : touched) {
+        bool hit = false;
+        for (const auto& t : m.triangles)
+            hit = hit || triBoxOverlap(Vec3{x + 0.5, y + 0.5, z + 0.5}, 0.5 + 1e-6, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]);
+        REQUIRE(hit); // tight: I holds only voxels a triangle touches
+    }
+}
+
+TEST_CASE("Mesh voxelization of a large mesh reuses its scratch", "[grid][mesh]") {
+    // 20^3 boxes = 96,000 triangles in a 128^3 grid: the answer is checked on a sample, and a second run
+    // into the same MeshVoxelization does not grow its buffers.
+    TriangleMesh m;
+    for (int i = 0; i < 20; ++i)
+        for (int j = 0; j < 20; ++j)
+            for (int k = 0; k < 20; ++k)
+                appendBox(m, Vec3{6.0 * i + 4, 6.0 * j + 4, 6.0 * k + 4}, {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}}, Vec3{2.0});
+    REQUIRE(analyzeMeshTopology(m).closed());
+    MeshVoxelization vox;
+    voxelizeMesh(m, IVec3{128}, true, true, kConservativeSlack, vox);
+    // Each box [6i+2, 6i+6]^3 holds 4^3 inner voxels.
+    std::size_t n = 0;
+    for (const auto& s : vox.spans) n += std::size_t(s.x1 - s.x0 + 1);
+    CHECK(n == 8000u * 64u);
+    const std::size_t cap = vox.crossings.capacity() + vox.touchedScratch.capacity() + vox.spans.capacity();
+    voxelizeMesh(m, IVec3{128}, true, true, kConservativeSlack, vox);
+    CHECK(vox.crossings.capacity() + vox.touchedScratch.capacity() + vox.spans.capacity() == cap);
+}
