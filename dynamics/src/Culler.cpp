@@ -23,6 +23,7 @@ const char* toString(Fallback f) {
     switch (f) {
     case Fallback::None: return "none";
     case Fallback::CameraOutsideGrid: return "camera_outside_grid";
+    case Fallback::Orthographic: return "orthographic";
     }
     return "unknown";
 }
@@ -64,7 +65,9 @@ template <int D> void Culler<D>::Impl::nextFrame() {
 
 template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera, const PlacementQuery<D>* placementOf) {
     validateCamera<D>(camera);
-    const typename Traits::View view(camera, grid); // may throw (3D: up parallel to direction)
+    const bool ortho = camera.projection == Projection::Orthographic;
+    const typename Traits::View view = ortho ? typename Traits::View() : typename Traits::View(camera, grid); // may throw (3D: up parallel to direction)
+    const OrthoVolume<D> volume = ortho ? OrthoVolume<D>(camera, grid) : OrthoVolume<D>();
     const auto t0 = std::chrono::steady_clock::now();
     nextFrame();
     beginView(main);
@@ -75,11 +78,14 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
     invalidField.clear();
     writes = 0;
 
-    const bool cameraIn = grid.containsLocal(view.apex());
+    // An orthographic frame has no camera point: no new TBVs, and the next perspective frame checks
+    // every TBV against its camera (havePrevCamera false), as after a camera outside the grid.
+    const bool cameraIn = !ortho && grid.containsLocal(view.apex());
     const IVec<D> cameraVoxel = glm::clamp(GridGeometry<D>::voxelOfLocal(view.apex()), IVec<D>(0), grid.resolution() - 1);
-    updateScene(cameraIn, std::span<const IVec<D>>(&cameraVoxel, 1), st);
+    updateScene(cameraIn, std::span<const IVec<D>>(&cameraVoxel, cameraIn ? 1 : 0), st);
     st.updateMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    cullView(main, view, cameraIn);
+    if (ortho) orthoView(main, volume);
+    else cullView(main, view, cameraIn);
     havePrevCamera = cameraIn;
     prevCameras.assign(1, cameraVoxel);
     query = nullptr;

@@ -21,6 +21,7 @@
 
 #include "rgvc/grid/BrickTraversal3D.hpp"
 #include "rgvc/grid/OcclusionBuffer3D.hpp"
+#include "rgvc/grid/OrthoVolume.hpp"
 #include "rgvc/grid/RowFootprint.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
 
@@ -207,7 +208,8 @@ template <int D> struct Culler<D>::Impl {
         }
     }
     bool reveal(ObjectSlot slot, CullStats& st);
-    /// cameraIn: every camera of the frame is in the grid; cameras: their voxels (clamped into it).
+    /// cameraIn: every camera of the frame is a perspective one in the grid (new TBVs may be made);
+    /// cameras: the voxels of the frame's perspective cameras that are in the grid.
     void updateScene(bool cameraIn, std::span<const IVec<D>> cameras, CullStats& st);
     void revealDuringTraversal(ObjectSlot slot, CullStats& st);
 
@@ -251,6 +253,12 @@ template <int D> struct Culler<D>::Impl {
     /// grid, parked objects, the occlusion buffer, the sorted PVS. Writes the scene only through tbvMet
     /// when S is the scene's own storage.
     template <class S> void cullView(ViewScratch<S>& vs, const typename Traits::View& view, bool cameraIn);
+    /// Every object tested against a view region on its own (camera outside the grid, orthographic):
+    /// held ones by touchesObject(record), hidden ones by touchesTbv(lo, hi) on their TBV's box.
+    template <class S, class TouchesTbv, class TouchesObject>
+    void testEveryObject(ViewScratch<S>& vs, TouchesTbv&& touchesTbv, TouchesObject&& touchesObject, CullStats& st);
+    /// An orthographic view's pass (OrthoVolume.hpp): view-volume culling, exact, no occlusion.
+    template <class S> void orthoView(ViewScratch<S>& vs, const OrthoVolume<D>& volume);
     const CullResult& cull(const Camera<D>& camera, const PlacementQuery<D>* placementOf);
     const MultiCullResult& cullViews(std::span<const Camera<D>> cameras, const PlacementQuery<D>* placementOf,
                                      TaskExecutor* executor);

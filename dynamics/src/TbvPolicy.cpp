@@ -79,7 +79,9 @@ template <int D> bool Culler<D>::Impl::reveal(ObjectSlot slot, CullStats& st) {
     return true;
 }
 
-/// Scene discretization of one frame (§4.1), before the traversal.
+/// Scene discretization of one frame (§4.1), before the traversal. cameraIn: new TBVs may be made (every
+/// camera of the frame is a perspective one inside the grid); cameras: the voxels of the frame's
+/// perspective cameras inside the grid, whose traversals rely on §4.1's camera condition.
 template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, std::span<const IVec<D>> cameras, CullStats& st) {
     if (!options.temporalBoundingVolumes) { // the baseline: every moving object re-placed every frame
         for (std::size_t i = 0; i < tracked.size();) {
@@ -99,7 +101,7 @@ template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, std::span<cons
         // have landed inside a TBV without crossing its boundary. Check them all (the only O(hidden)
         // step, and only on such frames). With several views, each camera against the same view's last
         // one; a change in the number of views counts as a jump.
-        if (boundary && cameraIn && !hidden.empty()) {
+        if (boundary && !cameras.empty() && !hidden.empty()) {
             bool jump = !havePrevCamera || prevCameras.size() != cameras.size();
             for (std::size_t c = 0; c < cameras.size() && !jump; ++c)
                 for (int a = 0; a < D; ++a) jump = jump || std::abs(cameras[c][a] - prevCameras[c][a]) > 1;
@@ -179,7 +181,7 @@ template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, std::span<cons
             TbvRegion<D> region;
             std::uint64_t expiry = 0;
             if (r.growthLevel > 0) --r.growthLevel; // unrevealed for a whole validity: grow larger again
-            if (buildTbv(r, *p, cameraIn, cameras, region, expiry)) {
+            if (buildTbv(r, *p, !cameras.empty(), cameras, region, expiry)) {
                 attachHidden(slot, *p, region, expiry);
                 r.fruitless = 0; // it stayed hidden for a whole validity
                 ++st.tbvsRenewed;

@@ -67,26 +67,8 @@ void Culler<D>::Impl::cullView(ViewScratch<S>& vs, const typename Traits::View& 
         // The grid's occlusion is only valid for cameras inside it: view-region test for every object, a
         // hidden one by its TBV (revealed if the TBV touches the view).
         st.fallback = Fallback::CameraOutsideGrid;
-        st.occlusionSkipped = true;
-        st.tbvLookupsSkipped = true;
-        for (ObjectSlot s = 0; s < records.size(); ++s) {
-            const Record& r = records[s];
-            if (!r.alive) continue;
-            if (r.state == State::Hidden) {
-                const Vec<D> lo = r.tbv.centre - r.tbv.radius, hi = r.tbv.centre + r.tbv.radius;
-                if (!view.touchesBox(lo, hi)) continue;
-                if constexpr (shared) {
-                    tbvMet(vs, s, st);
-                    continue;
-                } else {
-                    ++st.tbvsRevealed;
-                    if (!reveal(s, st)) continue; // parked: reported below
-                }
-            }
-            if ((r.state == State::Tracked || r.state == State::Static) &&
-                view.touchesBox(r.at.localBounds.min, r.at.localBounds.max))
-                addToPvs(vs, s);
-        }
+        testEveryObject(vs, [&](const Vec<D>& lo, const Vec<D>& hi) { return view.touchesBox(lo, hi); },
+                        [&](const Record& r) { return view.touchesBox(r.at.localBounds.min, r.at.localBounds.max); }, st);
     }
     for (std::size_t i = 0; i < parked.size(); ++i) addToPvs(vs, parked[i]);
     vs.view = nullptr;
@@ -117,18 +99,57 @@ void Culler<D>::Impl::cullView(ViewScratch<S>& vs, const typename Traits::View& 
 }
 
 template <int D>
+template <class S, class TouchesTbv, class TouchesObject>
+void Culler<D>::Impl::testEveryObject(ViewScratch<S>& vs, TouchesTbv&& touchesTbv, TouchesObject&& touchesObject, CullStats& st) {
+    st.occlusionSkipped = true;
+    st.tbvLookupsSkipped = true;
+    for (ObjectSlot s = 0; s < records.size(); ++s) {
+        const Record& r = records[s];
+        if (!r.alive) continue;
+        if (r.state == State::Hidden) {
+            if (!touchesTbv(r.tbv.centre - r.tbv.radius, r.tbv.centre + r.tbv.radius)) continue;
+            if constexpr (ViewScratch<S>::kShared) {
+                tbvMet(vs, s, st);
+                continue;
+            } else {
+                ++st.tbvsRevealed;
+                if (!reveal(s, st)) continue; // parked: reported with the parked ones
+            }
+        }
+        if ((r.state == State::Tracked || r.state == State::Static) && touchesObject(r)) addToPvs(vs, s);
+    }
+}
+
+template <int D> template <class S> void Culler<D>::Impl::orthoView(ViewScratch<S>& vs, const OrthoVolume<D>& volume) {
+    CullStats& st = vs.result.stats;
+    st.fallback = Fallback::Orthographic;
+    // Objects by their exact shape, grown by their own conversion slack (the volume adds the camera's).
+    testEveryObject(vs, [&](const Vec<D>& lo, const Vec<D>& hi) { return volume.touchesBox(lo, hi); },
+                    [&](const Record& r) { return volume.touchesShape(r.at.local, grid.conversionSlack(r.at.worldMagnitude)); },
+                    st);
+    for (std::size_t i = 0; i < parked.size(); ++i) addToPvs(vs, parked[i]);
+    if constexpr (!ViewScratch<S>::kShared)
+        for (ObjectSlot slot : vs.pvsSlots) records[slot].lastPvsFrame = frameIndex;
+    std::sort(vs.result.pvs.begin(), vs.result.pvs.end());
+    st.pvsSize = std::uint32_t(vs.result.pvs.size());
+}
+
+template <int D>
 const MultiCullResult& Culler<D>::Impl::cullViews(std::span<const Camera<D>> cameras, const PlacementQuery<D>* placementOf,
                                                   TaskExecutor* executor) {
     const std::size_t n = cameras.size();
     if (n == 0 || n > kMaxViews)
         throw InvalidInput("cameras", "must hold 1 to " + std::to_string(kMaxViews) + " cameras, got " + std::to_string(n));
-    std::vector<typename Traits::View> regions;
-    regions.reserve(n);
+    std::vector<typename Traits::View> regions(n);
+    std::vector<OrthoVolume<D>> volumes(n);
+    std::vector<char> ortho(n);
     for (std::size_t i = 0; i < n; ++i) {
         const std::string field = "cameras[" + std::to_string(i) + "]";
         validateCamera<D>(cameras[i], field);
+        ortho[i] = cameras[i].projection == Projection::Orthographic;
         try {
-            regions.emplace_back(cameras[i], grid);
+            if (ortho[i]) volumes[i] = OrthoVolume<D>(cameras[i], grid);
+            else regions[i] = typename Traits::View(cameras[i], grid);
         } catch (const InvalidInput& e) { // 3D: up parallel to direction
             throw InvalidInput(field + e.field().substr(e.field().find('.')), std::string(e.what()).substr(e.field().size() + 2));
         }
@@ -158,14 +179,15 @@ const MultiCullResult& Culler<D>::Impl::cullViews(std::span<const Camera<D>> cam
     invalidField.clear();
     writes = 0;
 
-    // 1. The scene update, once, under every camera's conditions.
-    std::vector<IVec<D>> voxels(n);
+    // 1. The scene update, once, under every camera's conditions: new TBVs only when every camera is a
+    // perspective one in the grid; the camera condition for each perspective camera in the grid.
+    std::vector<IVec<D>> voxels;
     std::vector<char> inside(n);
     bool allIn = true;
     for (std::size_t i = 0; i < n; ++i) {
-        inside[i] = grid.containsLocal(regions[i].apex());
+        inside[i] = !ortho[i] && grid.containsLocal(regions[i].apex());
         allIn = allIn && inside[i];
-        voxels[i] = glm::clamp(GridGeometry<D>::voxelOfLocal(regions[i].apex()), IVec<D>(0), grid.resolution() - 1);
+        if (inside[i]) voxels.push_back(glm::clamp(GridGeometry<D>::voxelOfLocal(regions[i].apex()), IVec<D>(0), grid.resolution() - 1));
     }
     updateScene(allIn, voxels, sc);
     tbvs.freshen(); // lookups write nothing from here on: the passes may read T at once
@@ -177,7 +199,8 @@ const MultiCullResult& Culler<D>::Impl::cullViews(std::span<const Camera<D>> cam
         SharedScratch& vs = *views[i];
         const auto p0 = std::chrono::steady_clock::now();
         try {
-            cullView(vs, regions[i], inside[i] != 0);
+            if (ortho[i]) orthoView(vs, volumes[i]);
+            else cullView(vs, regions[i], inside[i] != 0);
         } catch (...) { // bad_alloc growing a buffer: reported after all views
             vs.failure = std::current_exception();
         }
@@ -244,6 +267,8 @@ template void Culler<2>::Impl::beginView(Culler<2>::Impl::MainScratch&);
 template void Culler<3>::Impl::beginView(Culler<3>::Impl::MainScratch&);
 template void Culler<2>::Impl::cullView(Culler<2>::Impl::MainScratch&, const ViewWedge&, bool);
 template void Culler<3>::Impl::cullView(Culler<3>::Impl::MainScratch&, const ViewFrustum&, bool);
+template void Culler<2>::Impl::orthoView(Culler<2>::Impl::MainScratch&, const OrthoVolume<2>&);
+template void Culler<3>::Impl::orthoView(Culler<3>::Impl::MainScratch&, const OrthoVolume<3>&);
 template const MultiCullResult& Culler<2>::cullViews(std::span<const Camera<2>>, TaskExecutor*);
 template const MultiCullResult& Culler<3>::cullViews(std::span<const Camera<3>>, TaskExecutor*);
 template const MultiCullResult& Culler<2>::cullViews(std::span<const Camera<2>>, const PlacementQuery<2>&, TaskExecutor*);

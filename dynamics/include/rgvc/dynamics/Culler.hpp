@@ -134,6 +134,9 @@ template <int D> using PlacementQuery = std::function<Shape<D>(ObjectId)>;
 enum class Fallback : std::uint8_t {
     None,              ///< grid traversal only
     CameraOutsideGrid, ///< camera outside the grid box: every object touching the view region is reported
+    /// An orthographic camera (Camera::projection): every object touching its view box is reported (an
+    /// exact test, OrthoVolume.hpp); no occlusion, which the grid derives from rays through a point.
+    Orthographic,
 };
 const char* toString(Fallback f);
 
