@@ -34,9 +34,15 @@ const CheckOptions kCheck{.suite = "culler2d"};
 
 // Runs `scenes` seeds from `firstSeed`, `camerasPerScene` cameras each (the scene's own, then more drawn
 // from the same seed), one culler per scene.
+// Both traversals (CullerOptions::hierarchical, unless the options turn it off): the scenes run once
+// with the brick tree, once with the chess rings.
 Tally runRandomScenes(const std::string& name, std::uint64_t firstSeed, int scenes, int camerasPerScene,
-                      const ref::SceneOptions& opt, const CullerOptions& cullerOptions = {}) {
+                      const ref::SceneOptions& opt, const CullerOptions& cullerOptionsIn = {}) {
     Tally tally(kCheck);
+    for (const bool hierarchical : {true, false}) {
+    if (!hierarchical && !cullerOptionsIn.hierarchical) break;
+    CullerOptions cullerOptions = cullerOptionsIn;
+    cullerOptions.hierarchical = cullerOptionsIn.hierarchical && hierarchical;
     for (std::uint64_t seed = firstSeed; seed < firstSeed + std::uint64_t(scenes); ++seed) {
         ref::Scene2D s = ref::randomScene2D(seed, opt);
         Culler2D culler = makeCuller(s.grid, s.objects, cullerOptions);
@@ -44,8 +50,9 @@ Tally runRandomScenes(const std::string& name, std::uint64_t firstSeed, int scen
         std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ull);
         for (int c = 0; c < camerasPerScene; ++c) {
             Camera2 cam = c == 0 ? s.camera : ref::randomCamera2D(rng, s.grid, s.objects, s.snapped, opt);
-            checkFrame(culler, s.objects, cam, frameLabel(name, seed, c), tally);
+            checkFrame(culler, s.objects, cam, frameLabel(name + (cullerOptions.hierarchical ? "" : " (rings)"), seed, c), tally);
         }
+    }
     }
     tally.print(name);
     return tally;
@@ -121,7 +128,7 @@ TEST_CASE("culler2d: occluderInset: O and the buffer use the shape shrunk by the
 
 TEST_CASE("culler2d: no misses on mixed random scenes", "[culler]") {
     Tally t = runRandomScenes("mixed", 1, 1500, 3, ref::SceneOptions{});
-    REQUIRE(t.frames == 4500);
+    REQUIRE(t.frames == 9000);
     REQUIRE(t.misses == 0);
 }
 
@@ -478,13 +485,18 @@ Camera2 roomCamera(std::mt19937_64& rng, const RoomScene& s, const IVec2& voxel)
 } // namespace
 
 TEST_CASE("culler2d: closed rooms hide everything outside from every camera inside", "[culler2d][room]") {
-    // Per frame, besides zero misses against the exact reference:
-    //   - no object outside the room is in the PVS;
-    //   - the traversal terminates early, by the ring that reaches the innermost opaque layer of the
-    //     farthest wall (R): on that ring every voxel is a wall's opaque voxel or lies behind a wall;
-    //   - work: the rings 0..R cover at most (2R + 1)^2 voxels, under 4 times the square on the room's
+    // Both traversals (CullerOptions::hierarchical). Per frame, besides zero misses against the exact
+    // reference, no object outside the room is in the PVS, and the work stays within the room:
+    //   - chess rings: the traversal terminates early, by the ring that reaches the innermost opaque
+    //     layer of the farthest wall (R): on that ring every voxel is a wall's opaque voxel or lies behind
+    //     a wall; the rings 0..R cover at most (2R + 1)^2 voxels, under 4 times the square on the room's
     //     longer outer side. (For a square room that is 4 times its interior plus its walls; the chess
     //     rings are squares, so an elongated room costs the square on its longer side.)
+    //   - bricks: the voxels visited lie in bricks that meet the room's outer box (a brick beyond the
+    //     walls is hidden behind them as a whole): at most the area of that box rounded out to whole
+    //     8x8 bricks.
+    for (const bool hierarchical : {false, true}) {
+    INFO("hierarchical " << hierarchical);
     const int scenes = 600, frames = 4;
     Tally tally(kCheck);
     std::size_t outsideReported = 0, notEarly = 0, overBudget = 0, failures = 0;
@@ -494,7 +506,7 @@ TEST_CASE("culler2d: closed rooms hide everything outside from every camera insi
     for (std::uint64_t seed = 700001; seed < 700001 + scenes; ++seed) {
         RoomScene s = randomRoomScene(seed);
         ++perKind[seed % 3];
-        Culler2D culler(s.grid);
+        Culler2D culler(s.grid, CullerOptions{.hierarchical = hierarchical});
         for (const ObjectDesc<2>& o : s.objects) culler.addObject(o);
         std::mt19937_64 rng(seed * 0x9e3779b97f4a7c15ull + 1);
         IVec2 voxel{ref::scene_detail::uniformInt(rng, s.room.camLo.x, s.room.camHi.x),
@@ -543,10 +555,13 @@ TEST_CASE("culler2d: closed rooms hide everything outside from every camera insi
             std::vector<ObjectId> reported;
             for (std::size_t i = 0; i < s.objects.size(); ++i)
                 if (s.outside[i] && contains(r.pvs, s.objects[i].id)) reported.push_back(s.objects[i].id);
-            const bool early = r.stats.earlyTermination && r.stats.fallback == Fallback::None;
-            const bool withinRings = r.stats.layers <= std::uint32_t(R) + 1;
-            const bool withinBudget = r.stats.voxelsVisited <= std::uint64_t((2 * R + 1) * (2 * R + 1)) &&
-                                      r.stats.voxelsVisited <= std::uint64_t(4 * side * side);
+            const IVec2 brickLo = IVec2(glm::floor(s.room.lo / 8.0)) * 8, brickHi = IVec2(glm::ceil(s.room.hi / 8.0)) * 8;
+            const std::uint64_t brickBudget = std::uint64_t(brickHi.x - brickLo.x) * std::uint64_t(brickHi.y - brickLo.y);
+            const bool early = hierarchical || (r.stats.earlyTermination && r.stats.fallback == Fallback::None);
+            const bool withinRings = hierarchical || r.stats.layers <= std::uint32_t(R) + 1;
+            const bool withinBudget = hierarchical ? r.stats.voxelsVisited <= brickBudget
+                                                   : r.stats.voxelsVisited <= std::uint64_t((2 * R + 1) * (2 * R + 1)) &&
+                                                         r.stats.voxelsVisited <= std::uint64_t(4 * side * side);
             outsideReported += reported.size();
             notEarly += !early;
             overBudget += !(withinRings && withinBudget);
@@ -561,8 +576,8 @@ TEST_CASE("culler2d: closed rooms hide everything outside from every camera insi
                << "), fov " << cam.fovDeg << "): " << reported.size() << " outside object(s) reported";
             for (ObjectId id : reported) os << " " << id;
             os << "; earlyTermination " << r.stats.earlyTermination << ", layers " << r.stats.layers << " (at most " << R + 1
-               << "), voxels visited " << r.stats.voxelsVisited << " (at most " << std::min<std::int64_t>((2 * R + 1) * (2 * R + 1), 4 * side * side)
-               << ")\n";
+               << "), voxels visited " << r.stats.voxelsVisited << " (at most "
+               << (hierarchical ? std::int64_t(brickBudget) : std::min<std::int64_t>((2 * R + 1) * (2 * R + 1), 4 * side * side)) << ")\n";
             os << replayNote(kCheck.suite, ref::toJson(s.grid, s.objects, cam), origin);
             INFO(os.str());
             if (!reported.empty()) FAIL_CHECK("an object outside the closed room is in the PVS");
@@ -570,18 +585,19 @@ TEST_CASE("culler2d: closed rooms hide everything outside from every camera insi
             if (!(withinRings && withinBudget)) FAIL_CHECK("the traversal went past the ring that closes the room");
         }
     }
-    tally.print("closed rooms");
-    std::cout << "[culler2d] closed rooms: " << perKind[0] << " / " << perKind[1] << " / " << perKind[2]
+    tally.print(hierarchical ? "closed rooms (bricks)" : "closed rooms (chess rings)");
+    std::cout << "[culler2d] closed rooms" << (hierarchical ? " (bricks): " : " (chess rings): ") << perKind[0] << " / " << perKind[1] << " / " << perKind[2]
               << " scenes with one box per wall / thick fractional walls / unit boxes, " << frames << " frames each; "
               << "voxels visited per room voxel (interior + walls): pooled " << double(sumVisited) / double(sumRoomArea)
               << ", worst " << worstRatio << "\n";
-    std::cout << "[culler2d] closed rooms: outside objects reported " << outsideReported << ", frames without early termination "
+    std::cout << "[culler2d] closed rooms" << (hierarchical ? " (bricks)" : " (chess rings)") << ": outside objects reported " << outsideReported << ", frames without early termination "
               << notEarly << ", over the ring or voxel budget " << overBudget << "\n";
     REQUIRE(tally.frames == std::size_t(scenes * frames));
     REQUIRE(tally.misses == 0);
     REQUIRE(outsideReported == 0);
     REQUIRE(notEarly == 0);
     REQUIRE(overBudget == 0);
+    }
 }
 
 TEST_CASE("culler2d: an L corner's ray is in H when the arms lie on both sides of it, and only then", "[culler2d][room]") {
@@ -623,7 +639,7 @@ TEST_CASE("culler2d: an L corner's ray is in H when the arms lie on both sides o
         }
         for (int i = 0; i < 6; ++i)
             objects.push_back({ObjectId(200 + i), Ball<2>{{uniform(rng, 1, 63), uniform(rng, 1, 63)}, 0.05}, true, 0});
-        Culler2D culler(grid);
+        Culler2D culler(grid, CullerOptions{.hierarchical = false}); // H belongs to the chess-ring traversal
         for (const ObjectDesc<2>& o : objects) culler.addObject(o);
         const double mode = uniform01(rng);
         const Vec2 offset = mode < 0.3 ? Vec2(0.5) : mode < 0.6 ? Vec2(0.0) : mode < 0.8 ? Vec2{0.0, uniform01(rng)} : Vec2{uniform01(rng), uniform01(rng)};

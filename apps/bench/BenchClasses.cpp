@@ -6,7 +6,8 @@
 //   3D: new  (default CullerOptions: hierarchical = true, the output-sensitive brick-tree core),
 //       old  (hierarchical = false: the paper's per-voxel shell traversal),
 //       vfc  (occlusion = false: grid view-frustum culling only; its |PVS| is the scene's |VFC|);
-//   2D: default, vfc.
+//   2D: new  (default CullerOptions: hierarchical = true, the brick quadtree with its angular image),
+//       rings (hierarchical = false: the paper's chess-ring traversal with occluder extension and H), vfc.
 // The variants run interleaved frame by frame in one process: one scene, moved once per frame, and one
 // culler per variant, each culling the same camera with the same placement query (the pull interface,
 // cull(camera, placementOf)); the order of the variants rotates from frame to frame so that none is always
@@ -26,7 +27,7 @@
 // inside an object (from inside one the reference sees that object only).
 //
 //   rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] [--no-reference] [--quick]
-//                      [--variant NAME]   (only that variant: new, img128, old, vfc, default; for profiling)
+//                      [--variant NAME]   (only that variant: new, adaptbuf, img128, old, rings, vfc; for profiling)
 //                      [--voxel-size V]   (every scene's grid re-made with voxels of V world units)
 //
 // --quick: 3 measured frames after 1 warm-up, every frame checked, small object counts, room-1k only
@@ -516,6 +517,83 @@ World<2> random2dScene(int count) {
     return w;
 }
 
+/// 10. A closed 2D room (four static walls 1 voxel thick, interior [40,88]^2 in 128^2) with `circles`
+/// moving circles outside it; the camera turns in place inside, fov 90.
+World<2> room2dScene(int circles) {
+    World<2> w;
+    w.name = "room2d";
+    w.grid = GridGeometry2(Vec2(0.0), 1.0, {128, 128});
+    const Vec2 lo{39, 39}, hi{89, 89};
+    addStatic<2>(w, Box<2>{lo, {lo.x + 1, hi.y}});
+    addStatic<2>(w, Box<2>{{hi.x - 1, lo.y}, hi});
+    addStatic<2>(w, Box<2>{lo, {hi.x, lo.y + 1}});
+    addStatic<2>(w, Box<2>{{lo.x, hi.y - 1}, hi});
+    w.obstacles.push_back(Box<2>{lo, hi});
+    std::mt19937_64 rng(0x2007 + std::uint64_t(circles));
+    for (int i = 0; i < circles; ++i)
+        for (int attempt = 0; attempt < 1000; ++attempt) {
+            const double r = logUniform(rng, 0.3, 1.5);
+            const Ball<2> c{{uniform(rng, r, 128 - r), uniform(rng, r, 128 - r)}, r};
+            if (!freePlace(w, boundsOf<2>(c))) continue;
+            addMoving<2>(w, c, unitVector2(rng) * uniform(rng, 0.1, 0.5));
+            break;
+        }
+    w.camera = [](int f) {
+        const double yaw = 2 * kPi * f / 120.0;
+        Camera2 c;
+        c.position = {64.3, 64.1};
+        c.direction = {std::cos(yaw), std::sin(yaw)};
+        c.fovDeg = 90;
+        return c;
+    };
+    w.description = "closed 2D room (4 static walls), " + std::to_string(w.objects.size() - 4) +
+                    " moving circles outside it, camera turning in place, fov 90";
+    return w;
+}
+
+/// 11. A large, mostly empty 2D world: 2048 x 2048 unit voxels, four clusters of `perCluster` circles and
+/// boxes (half the circles moving), the camera flying across it looking ahead, fov 90. (`side` 0: the
+/// same grid with nothing but one tiny circle: the empty world.)
+World<2> large2dScene(int perCluster, const char* name = "large2d") {
+    World<2> w;
+    w.name = name;
+    const double side = 2048;
+    w.grid = GridGeometry2(Vec2(0.0), 1.0, {2048, 2048});
+    std::mt19937_64 rng(0x1a2e);
+    if (perCluster == 0) addStatic<2>(w, Ball<2>{{1024.5, 1024.5}, 0.25});
+    const Vec2 centres[4] = {{400, 500}, {1500, 400}, {1200, 1500}, {500, 1600}};
+    for (const Vec2& c0 : centres)
+        for (int i = 0; i < perCluster; ++i)
+            for (int attempt = 0; attempt < 1000; ++attempt) {
+                const Vec2 c = c0 + Vec2{uniform(rng, -60, 60), uniform(rng, -60, 60)};
+                if (chance(rng, 0.6)) {
+                    const double r = logUniform(rng, 0.5, 3.0);
+                    const Ball<2> b{c, r};
+                    if (!freePlace(w, boundsOf<2>(b))) continue;
+                    if (chance(rng, 0.5)) addMoving<2>(w, b, unitVector2(rng) * uniform(rng, 0.1, 0.5));
+                    else addStatic<2>(w, b);
+                } else {
+                    const Vec2 half{uniform(rng, 1, 6), uniform(rng, 1, 6)};
+                    const Box<2> b{c - half, c + half};
+                    if (!freePlace(w, b)) continue;
+                    addStatic<2>(w, b);
+                }
+                break;
+            }
+    w.camera = [side](int f) {
+        const double t = 2 * kPi * f / 400.0;
+        Camera2 c;
+        c.position = {0.5 * side + 0.4 * side * std::sin(t), 0.5 * side + 0.4 * side * std::sin(2 * t + 0.3)};
+        c.direction = {std::cos(t), 2 * std::cos(2 * t + 0.3)};
+        c.fovDeg = 90;
+        return c;
+    };
+    w.description = perCluster == 0 ? "an empty 2048^2 2D world but for one tiny circle, camera flying across, fov 90"
+                                     : "large 2D world 2048^2, four clusters of " + std::to_string(perCluster) +
+                                           " circles and boxes, camera flying across, fov 90";
+    return w;
+}
+
 // ---------------------------------------------------------------------------------------------------
 // Running
 
@@ -529,7 +607,7 @@ struct Config {
 
 struct Row {
     std::string scene, variant;
-    bool is3D = true;
+    bool hierarchical = true; // the brick walk ran (its node counts are printed)
     double medianMs = 0, p90Ms = 0, voxels = 0, nodes = 0, empty = 0, hidden = 0, bricks = 0, pvs = 0;
     double ratio = -1; // -1: no frame counted
     std::uint64_t misses = 0;
@@ -554,7 +632,7 @@ template <int D> struct Variant {
 
 template <int D> std::vector<Variant<D>> variantsFor() {
     if constexpr (D == 3) return {{"new", {}}, {"adaptbuf", {.adaptiveBuffer = true}}, {"img128", {.traversalImageRows = 128}}, {"old", {.hierarchical = false}}, {"vfc", {.occlusion = false}}};
-    else return {{"default", {}}, {"vfc", {.occlusion = false}}};
+    else return {{"new", {}}, {"rings", {.hierarchical = false}}, {"vfc", {.occlusion = false}}};
 }
 
 template <int D> void runScene(World<D>& w, const Config& cfg) {
@@ -657,7 +735,7 @@ template <int D> void runScene(World<D>& w, const Config& cfg) {
         Row row;
         row.scene = w.name;
         row.variant = variants[k].name;
-        row.is3D = D == 3;
+        row.hierarchical = variants[k].options.hierarchical;
         row.medianMs = percentile(ms[k], 0.5);
         row.p90Ms = percentile(ms[k], 0.9);
         row.voxels = voxels[k] / n;
@@ -693,7 +771,7 @@ void printTable() {
                 "\\|PVS\\|/\\|visible\\| | misses |\n");
     std::printf("|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
     for (const Row& r : g_rows) {
-        auto three = [&](double v) { return r.is3D ? fmt("%.0f", v) : std::string("-"); };
+        auto three = [&](double v) { return r.hierarchical ? fmt("%.0f", v) : std::string("-"); };
         std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s%llu%s |\n", r.scene.c_str(),
                     r.variant.c_str(), fmt("%.3f", r.medianMs).c_str(), fmt("%.3f", r.p90Ms).c_str(),
                     fmt("%.0f", r.voxels).c_str(), three(r.nodes).c_str(), three(r.empty).c_str(),
@@ -720,7 +798,8 @@ int parseInt(const std::string& flag, const char* text, int minimum) {
 }
 
 const char* const kScenes[] = {"room-1k", "room-10k", "room-100k", "clusters", "game",    "large",
-                               "empty",   "city3d",   "paper",     "city2d",   "random2d"};
+                               "empty",   "city3d",   "paper",     "city2d",   "random2d", "room2d",
+                               "large2d", "empty2d"};
 
 } // namespace
 
@@ -774,7 +853,7 @@ int main(int argc, char** argv) {
                 cfg.refEvery > 0 ? ("every " + std::to_string(cfg.refEvery) + " frames").c_str()
                                  : "on a subset of frames: ~3 s per scene, every K-th (K in the notes)");
     std::printf("variants (interleaved frame by frame on the same scene): 3D new = default options "
-                "(hierarchical), old = hierarchical off, vfc = occlusion off (its |PVS| is |VFC|); 2D default, vfc\n");
+                "(hierarchical), old = hierarchical off, vfc = occlusion off (its |PVS| is |VFC|); 2D new (bricks), rings (hierarchical off), vfc\n");
     std::printf("times: CullStats::cullMs (wall, placement queries included); voxels/nodes/empty/hidden/bricks/|PVS|: "
                 "means per frame\n\nscenes:\n");
     try {
@@ -821,6 +900,18 @@ int main(int argc, char** argv) {
         }
         if (wanted("random2d")) {
             auto w = random2dScene(q ? 100 : 300);
+            runScene(w, cfg);
+        }
+        if (wanted("room2d")) {
+            auto w = room2dScene(q ? 100 : 1000);
+            runScene(w, cfg);
+        }
+        if (wanted("large2d")) {
+            auto w = large2dScene(q ? 50 : 500);
+            runScene(w, cfg);
+        }
+        if (wanted("empty2d")) {
+            auto w = large2dScene(0, "empty2d");
             runScene(w, cfg);
         }
     } catch (const std::exception& e) {

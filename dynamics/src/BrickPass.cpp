@@ -1,11 +1,12 @@
-// Culler<D>::Impl, CullerOptions::hierarchical (3D): the brick-tree walk with its occlusion image
-// (traverseBricks, over BrickTraversal3D.hpp) and the per-object verdict it gives (classify). classify is
-// instantiated for 2D too (revealDuringTraversal names it), where it only adds the object to the PVS.
+// Culler<D>::Impl, CullerOptions::hierarchical: the brick-tree walk with its occlusion image
+// (traverseBricks, over BrickTraversal3D.hpp and BrickTraversal2D.hpp) and the per-object verdict it
+// gives (classify).
 #include "CullerImpl.hpp"
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <numbers>
 #include <variant>
 
 namespace rgvc {
@@ -53,7 +54,14 @@ void Culler<D>::Impl::classify(ViewScratch<S>& vs, ObjectSlot slot, const View& 
         if (vs.imageActive && r.at.occludes && vs.traversalImage.spans(boundingBall<D>(r.at.local).radius, nearest, minPixels))
             vs.traversalImage.draw(*r.at.occluder(), slack);
     } else {
+        // 2D: the angular image (OcclusionBuffer2D). Drawing is cheap in 1D: every visible occluder is
+        // drawn, whatever its size.
+        if (vs.imageActive && vs.traversalImage.hidden(r.at.local, slack)) {
+            ++vs.result.stats.imageHidden;
+            return;
+        }
         addToPvs(vs, slot);
+        if (vs.imageActive && r.at.occludes) vs.traversalImage.draw(*r.at.occluder(), slack);
     }
 }
 
@@ -128,31 +136,92 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
             for (ObjectSlot slot : revealScratch)
                 if (records[slot].state == State::Hidden) tbvMet(vs, slot, st);
         },
-        [&](VoxelKey seed, const IVec3& lo, const IVec3& hi) {
-            // A box object holding the seed that contains the whole fused box (its voxel range lo..hi).
-            bool inside = false;
-            storage.forEachId(seed, [&](ObjectSlot slot) {
-                const Record& r = records[slot];
-                const auto* b = std::get_if<Box<3>>(&r.at.local);
-                if (inside || b == nullptr || (r.state != State::Tracked && r.state != State::Static)) return;
-                inside = glm::all(glm::lessThanEqual(b->min, Vec3(lo))) && glm::all(glm::greaterThanEqual(b->max, Vec3(hi + 1)));
-            });
-            return inside;
-        });
+        [&](VoxelKey seed, const IVec3& lo, const IVec3& hi) { return boxObjectHolds(seed, lo, hi); });
+    finishWalk(vs, view, st, ts.voxelsVisited, ts.nodesVisited, ts.nodesEmpty, ts.nodesHidden, ts.bricksVisited, ts.fusedBoxes);
+}
+
+/// After either walk: objects reaching outside the grid (the image's facts hold for any point), the
+/// objects revealed during the walk (cull(): classified now that the image is complete; see
+/// revealDuringTraversal), and the walk's statistics.
+template <int D>
+template <class S>
+void Culler<D>::Impl::finishWalk(ViewScratch<S>& vs, const typename Traits::View& view, CullStats& st, std::uint64_t voxels,
+                                 std::uint64_t nodes, std::uint64_t empty, std::uint64_t hiddenNodes, std::uint64_t bricks,
+                                 std::uint64_t fused) {
     for (std::size_t i = 0; i < outside.size(); ++i) classify(vs, outside[i], view);
+    for (std::size_t i = 0; i < vs.revealedPending.size(); ++i) classify(vs, vs.revealedPending[i], view);
+    vs.revealedPending.clear();
     st.layers = 0;
-    st.voxelsVisited = ts.voxelsVisited;
-    st.nodesVisited = ts.nodesVisited;
-    st.nodesEmpty = ts.nodesEmpty;
-    st.nodesHidden = ts.nodesHidden;
-    st.bricksVisited = ts.bricksVisited;
-    st.occludersExtended = ts.fusedBoxes;
-    st.occlusionSkipped = !vs.imageActive || image.stats().occludersDrawn == 0;
+    st.voxelsVisited = voxels;
+    st.nodesVisited = nodes;
+    st.nodesEmpty = empty;
+    st.nodesHidden = hiddenNodes;
+    st.bricksVisited = bricks;
+    st.occludersExtended = fused;
+    st.occlusionSkipped = !vs.imageActive || vs.traversalImage.stats().occludersDrawn == 0;
+    vs.imageKept = vs.imageActive;
+    if (vs.imageKept) vs.imageView = view;
     vs.imageActive = false;
+}
+
+template <int D> bool Culler<D>::Impl::boxObjectHolds(VoxelKey seed, const IVec<D>& lo, const IVec<D>& hi) const {
+    bool inside = false;
+    storage.forEachId(seed, [&](ObjectSlot slot) {
+        const Record& r = records[slot];
+        const auto* b = std::get_if<Box<D>>(&r.at.local);
+        if (inside || b == nullptr || (r.state != State::Tracked && r.state != State::Static)) return;
+        inside = glm::all(glm::lessThanEqual(b->min, Vec<D>(lo))) && glm::all(glm::greaterThanEqual(b->max, Vec<D>(hi + 1)));
+    });
+    return inside;
+}
+
+/// CullerOptions::traversalImageBins = 0: bins of this width [radians] over the view, within the limits.
+/// A closed room's corner, seen from up to ~60 voxels, spans ~1/60 rad: a bin straddling the corner is
+/// covered when both its rays pass through the corner's voxels (shared by both walls' fused boxes), so
+/// bins well under that width (0.002 rad: 786 bins at 90 degrees, 3,142 for the full circle) close it.
+constexpr double kAutoBinWidth = 0.002;
+constexpr int kAutoMinBins = 64;
+
+/// CullerOptions::hierarchical, 2D: the quadtree walk (BrickTraversal2D.hpp) with the angular image.
+/// Ids met in visited voxels are classified; a TBV met in a visited voxel that the image does not hide
+/// is revealed, by the argument of the 3D version above (a ray to a visible point of a hidden object
+/// enters the TBV's disc through a visible point of its boundary ring, whose voxel T holds).
+template <int D>
+template <class S>
+void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewWedge& view, CullStats& st) requires(D == 2) {
+    int bins = options.traversalImageBins;
+    if (bins == 0) {
+        const double want = std::ceil((view.isFullCircle() ? 2 * std::numbers::pi : view.fov()) / kAutoBinWidth);
+        bins = int(std::clamp(want, double(kAutoMinBins), double(OcclusionBuffer2D::kMaxBins)));
+    }
+    OcclusionBuffer2D& image = vs.traversalImage;
+    vs.imageActive = options.occlusion && image.begin(view, bins);
+    st.tbvLookupsSkipped = tbvs.liveRegions() == 0;
+    const BrickTraversalStats2D ts = vs.brickTraversal.run(
+        grid, *vs.storage, view, vs.imageActive ? &image : nullptr, vs.stamp,
+        [&](const IVec2& brick) { return tbvs.mayHoldTile(brick); },
+        [&](VoxelKey key, const IVec2&) { storage.forEachId(key, [&](ObjectSlot slot) { classify(vs, slot, view); }); },
+        [&](const IVec2& v) {
+            // The count first (one read), then the image, then the tile's list: next to a wall, the walk
+            // reads bricks whose outer voxels are crossed by many TBV rings, all of them hidden.
+            if (!tbvs.mayHoldAt(v)) return;
+            if (vs.imageActive && image.hidden(Box<2>{Vec2(v), Vec2(v) + 1.0}, view.slack())) return;
+            vs.revealScratch.clear();
+            tbvs.collectAt(v, vs.revealScratch);
+            // Revealing erases from T: collected first, revealed after.
+            for (ObjectSlot slot : vs.revealScratch)
+                if (records[slot].state == State::Hidden) tbvMet(vs, slot, st);
+        },
+        [&](VoxelKey seed, const IVec2& lo, const IVec2& hi) { return boxObjectHolds(seed, lo, hi); });
+    finishWalk(vs, view, st, ts.voxelsVisited, ts.nodesVisited, ts.nodesEmpty, ts.nodesHidden, ts.bricksVisited, ts.fusedBoxes);
 }
 
 template void Culler<2>::Impl::classify(ObjectSlot);
 template void Culler<3>::Impl::classify(ObjectSlot);
+template bool Culler<2>::Impl::boxObjectHolds(VoxelKey, const IVec<2>&, const IVec<2>&) const;
+template bool Culler<3>::Impl::boxObjectHolds(VoxelKey, const IVec<3>&, const IVec<3>&) const;
+template void Culler<2>::Impl::traverseBricks(Culler<2>::Impl::MainScratch&, const ViewWedge&, CullStats&);
+template void Culler<2>::Impl::traverseBricks(Culler<2>::Impl::SharedScratch&, const ViewWedge&, CullStats&);
 template void Culler<3>::Impl::traverseBricks(Culler<3>::Impl::MainScratch&, const ViewFrustum&, CullStats&);
 template void Culler<3>::Impl::traverseBricks(Culler<3>::Impl::SharedScratch&, const ViewFrustum&, CullStats&);
 

@@ -117,6 +117,9 @@ template <int D> Culler<D>::Culler(const GridGeometry<D>& grid, const CullerOpti
     if (options.traversalImageRows < 0 || options.traversalImageRows > OcclusionBuffer3D::kMaxExtent)
         throw InvalidInput("options.traversalImageRows", "must be in [0, " + std::to_string(OcclusionBuffer3D::kMaxExtent) +
                                                               "], got " + std::to_string(options.traversalImageRows));
+    if (options.traversalImageBins < 0 || options.traversalImageBins > OcclusionBuffer2D::kMaxBins)
+        throw InvalidInput("options.traversalImageBins", "must be in [0, " + std::to_string(OcclusionBuffer2D::kMaxBins) +
+                                                              "], got " + std::to_string(options.traversalImageBins));
     if (options.tbvDiscretization != TbvDiscretization::Boundary && options.tbvDiscretization != TbvDiscretization::Filled &&
         options.tbvDiscretization != TbvDiscretization::Shell)
         throw InvalidInput("options.tbvDiscretization", "unknown value");
@@ -256,6 +259,10 @@ template <int D> VoxelState Culler<D>::voxelState(const IVec<D>& v) const {
     s.inGrid = true;
     s.opaque = m.storage.opaque(key);
     s.occluded = m.frame != 0 && m.storage.occluded(key, m.frame);
+    if (m.main.imageKept) { // the brick walk keeps no H: in view, and hidden in its image from the camera point
+        const Vec<D> lo(v), hi = Vec<D>(v) + 1.0;
+        s.occluded = m.main.imageView.touchesBox(lo, hi) && m.main.traversalImage.hidden(Box<D>{lo, hi}, m.main.imageView.slack());
+    }
     s.visited = m.frame != 0 && m.storage.visited(key, m.frame);
     s.occluder = m.frame != 0 && m.storage.used(key, m.frame);
     s.hasIds = m.storage.hasIds(key);

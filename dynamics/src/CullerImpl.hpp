@@ -3,7 +3,7 @@
 //   Culler.cpp       the public members and the per-frame driver (cull, nextFrame, scheduleCaps)
 //   ObjectTable.cpp  placements, rasterization into I and O, the objects' states (attach, detach, fetch)
 //   TbvPolicy.cpp    temporal bounding volumes: buildTbv, updateScene, reveal, revealDuringTraversal
-//   BrickPass.cpp    CullerOptions::hierarchical (3D): traverseBricks and classify
+//   BrickPass.cpp    CullerOptions::hierarchical: traverseBricks and classify
 //   BufferPass.cpp   the occlusion buffer's pass over the grid's PVS (refineWithBuffer)
 //   ViewPass.cpp     one view's pass of a frame (cullView) and several views per frame (cullViews)
 //
@@ -19,6 +19,7 @@
 
 #include "rgvc/dynamics/Culler.hpp"
 
+#include "rgvc/grid/BrickTraversal2D.hpp"
 #include "rgvc/grid/BrickTraversal3D.hpp"
 #include "rgvc/grid/OcclusionBuffer3D.hpp"
 #include "rgvc/grid/OrthoVolume.hpp"
@@ -140,10 +141,14 @@ template <int D> struct Culler<D>::Impl {
         std::unique_ptr<S> ownStorage;   // kShared: this view's stamps
         std::uint32_t stamp = 0;         // this view's frame stamp (main: Impl::frame)
         typename Traits::template Traversal<S> traversal;
-        // CullerOptions::hierarchical (3D): the brick-tree walk and its occlusion image.
-        BrickTraversal3D<S> brickTraversal;
-        OcclusionBuffer3D traversalImage;
+        // CullerOptions::hierarchical: the brick-tree walk and its occlusion image (3D depth, 2D angular).
+        typename Traits::template BrickTraversal<S> brickTraversal;
+        // Mutable: voxelState (const) asks it about voxels after the frame, which only counts in its stats.
+        mutable typename Traits::Buffer traversalImage;
         bool imageActive = false;
+        bool imageKept = false;                  // the last walk drew into traversalImage (voxelState reads it)
+        typename Traits::View imageView;         // that walk's view
+        std::vector<ObjectSlot> revealedPending; // main: revealed during the walk, classified after it
         // The grid PVS's slots in the order added, and the occlusion buffer that refines it.
         std::vector<ObjectSlot> pvsSlots;
         std::vector<std::pair<double, std::uint32_t>> bufferOrder; // (nearest distance, index in bufferShapes)
@@ -213,11 +218,19 @@ template <int D> struct Culler<D>::Impl {
     void updateScene(bool cameraIn, std::span<const IVec<D>> cameras, CullStats& st);
     void revealDuringTraversal(ObjectSlot slot, CullStats& st);
 
-    // ---- 3D hierarchical traversal (BrickPass.cpp) -------------------------------------------------
+    // ---- the hierarchical traversal (BrickPass.cpp) -------------------------------------------------
 
     template <class S, class View> void classify(ViewScratch<S>& vs, ObjectSlot slot, const View& view);
     void classify(ObjectSlot slot); // cull()'s view (main)
     template <class S> void traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view, CullStats& st) requires(D == 3);
+    template <class S> void traverseBricks(ViewScratch<S>& vs, const ViewWedge& view, CullStats& st) requires(D == 2);
+    /// Whether one box object (Tracked or Static) holding voxel `seed` contains the voxel box lo..hi
+    /// (inclusive): a fused box of opaque voxels inside it repeats it and is not drawn.
+    bool boxObjectHolds(VoxelKey seed, const IVec<D>& lo, const IVec<D>& hi) const;
+    template <class S>
+    void finishWalk(ViewScratch<S>& vs, const typename Traits::View& view, CullStats& st, std::uint64_t voxels,
+                    std::uint64_t nodes, std::uint64_t empty, std::uint64_t hiddenNodes, std::uint64_t bricks,
+                    std::uint64_t fused);
 
     // ---- the occlusion buffer's pass (BufferPass.cpp) ----------------------------------------------
 

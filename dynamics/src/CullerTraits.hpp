@@ -1,11 +1,13 @@
 // CullerTraits<D>: what differs between the 2D and the 3D culler, chosen at compile time: the view
 // region (ViewWedge / ViewFrustum), the per-voxel traversal (FrustumTraversal2D / FrustumTraversal3D) and
-// its statistics, the occlusion buffer that refines the grid's PVS (OcclusionBuffer2D / OcclusionBuffer3D),
+// its statistics, the brick traversal (BrickTraversal2D / BrickTraversal3D), the occlusion buffer that refines the grid's PVS (OcclusionBuffer2D / OcclusionBuffer3D),
 // and the grid limits. Internal to rgvc::dynamics (Culler<D>::Impl, CullerImpl.hpp).
 #pragma once
 
 #include "rgvc/dynamics/Culler.hpp"
 
+#include "rgvc/grid/BrickTraversal2D.hpp"
+#include "rgvc/grid/BrickTraversal3D.hpp"
 #include "rgvc/grid/FrustumTraversal2D.hpp"
 #include "rgvc/grid/FrustumTraversal3D.hpp"
 #include "rgvc/grid/OcclusionBuffer2D.hpp"
@@ -27,6 +29,7 @@ template <> struct CullerTraits<2> {
     static int bufferSize(const CullerOptions& o) { return o.occlusionBufferBins; }
     /// Over the scene's DenseStorage (Culler::cull) or a view's stamps over it (ViewStorage, cullViews).
     template <class S> using Traversal = FrustumTraversal2D<S>;
+    template <class S> using BrickTraversal = BrickTraversal2D<S>;
     static void checkGrid(const GridGeometry2& grid) {
         for (int a = 0; a < 2; ++a)
             if (grid.resolution()[a] > kMaxShadowExtent)
@@ -60,6 +63,7 @@ template <> struct CullerTraits<3> {
     using Buffer = OcclusionBuffer3D;
     static int bufferSize(const CullerOptions& o) { return o.occlusionBufferRows; }
     template <class S> using Traversal = FrustumTraversal3D<S>;
+    template <class S> using BrickTraversal = BrickTraversal3D<S>;
     static void checkGrid(const GridGeometry3&) {}
     template <class S, class OnVoxel>
     static void traverse(Traversal<S>& t, const GridGeometry3& grid, S& storage, const View& view,

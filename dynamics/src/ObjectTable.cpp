@@ -114,9 +114,9 @@ void Culler<D>::Impl::attachHidden(ObjectSlot slot, const Placement& p, const Tb
     r.tbv = region;
     r.tbvExpiry = expiry;
     writes += tbvs.insert(slot, region, options.tbvDiscretization);
-    if constexpr (D == 3) { // the brick tree must see the TBV (BrickPyramid: marking is eager)
-        IVec3 lo, hi;
-        if (tbvVoxelBox3D(region, grid.resolution(), lo, hi)) storage.bricks().markOccupied(lo, hi);
+    { // the brick tree must see the TBV (BrickPyramid: marking is eager)
+        IVec<D> lo, hi;
+        if (tbvVoxelBox<D>(region, grid.resolution(), lo, hi)) storage.bricks().markOccupied(lo, hi);
     }
     expiring[expiry % expiring.size()].emplace_back(slot, r.tbvGeneration);
     enter(slot, State::Hidden);

@@ -215,8 +215,12 @@ template <int D> void Culler<D>::Impl::revealDuringTraversal(ObjectSlot slot, Cu
         addToPvs(main, slot);
         return;
     }
-    if (D == 3 && options.hierarchical) { // classified against the view and the image, now
-        classify(slot);
+    if (options.hierarchical) {
+        // Classified against the view and the image once the walk is done (traverseBricks), when the image
+        // holds every occluder in view: a TBV reaching into a room through its wall is met before the
+        // wall's far part is drawn, and the object behind the wall would be let in. (The walk meets the
+        // object's voxels in bricks it has yet to visit, and classifies it then: once per frame either way.)
+        main.revealedPending.push_back(slot);
         return;
     }
     const Placement& p = records[slot].at;

@@ -41,8 +41,9 @@ void Culler<D>::Impl::cullView(ViewScratch<S>& vs, const typename Traits::View& 
     constexpr bool shared = ViewScratch<S>::kShared;
     CullStats& st = vs.result.stats;
     vs.view = &view;
-    if (D == 3 && cameraIn && options.hierarchical) {
-        if constexpr (D == 3) traverseBricks(vs, view, st);
+    vs.imageKept = false;
+    if (cameraIn && options.hierarchical) {
+        traverseBricks(vs, view, st);
     } else if (cameraIn) {
         st.tbvLookupsSkipped = hidden.empty();
         const bool deferCaps = !shared && D == 3 && options.adaptiveCaps && options.occlusion && capsSkip > 0;

@@ -230,7 +230,7 @@ struct MultiCullResult {
 struct VoxelState {
     bool inGrid = false;
     bool opaque = false;   ///< O (including Os)
-    bool occluded = false; ///< H
+    bool occluded = false; ///< H (CullerOptions::hierarchical: hidden in the walk's occlusion image)
     bool visited = false;  ///< reached by the traversal
     bool occluder = false; ///< part of an extended occluder
     bool hasIds = false;   ///< I non-empty
@@ -305,12 +305,14 @@ struct CullerOptions {
     /// default: in closed rooms the pass is what hides the last objects outside (the traversal's image
     /// alone lets one through now and then at a room's corner), and a skipped frame reports them.
     bool adaptiveBuffer = false;
-    /// 3D only: the output-sensitive core (BrickTraversal3D.hpp). The grid's 8x8x8 bricks form an
-    /// implicit octree whose nodes know whether anything (an id or a TBV) lies below them; the tree is
-    /// walked front to back, empty nodes are skipped in O(1), every node is tested against a conservative
-    /// occlusion image of the occluders met so far (from the camera point, so it holds however walls are
-    /// turned), and only non-empty, not hidden bricks read their voxels. false: the paper's per-voxel
-    /// shell traversal with cap polygons (FrustumTraversal3D.hpp), kept to compare.
+    /// The output-sensitive core (BrickTraversal3D.hpp, BrickTraversal2D.hpp). The grid's 8^D bricks
+    /// form an implicit octree (quadtree in 2D) whose nodes know whether anything (an id or a TBV) lies
+    /// below them; the tree is walked front to back, empty nodes are skipped in O(1), every node is tested
+    /// against a conservative occlusion image of the occluders met so far (from the camera point, so it
+    /// holds however walls are turned: 3D a depth image, 2D an angular one), and only non-empty, not
+    /// hidden bricks read their voxels. false: the paper's per-voxel traversals, kept to compare: the 3D
+    /// shells with cap polygons (FrustumTraversal3D.hpp), the 2D chess rings with occluder extension and
+    /// H (FrustumTraversal2D.hpp).
     bool hierarchical = true;
     /// 3D hierarchical only: [Pixels] [Limit] 0..2048. Rows of the traversal's occlusion image. 0 (the
     /// default) follows the view: pixels of kAutoImagePixelTan in the image plane at distance 1, between
@@ -318,6 +320,10 @@ struct CullerOptions {
     /// Drawing into the image is most of the traversal's cost, and a narrow view needs fewer rows for the
     /// same angular detail (README, "Output-sensitive core": the figures that chose the constants).
     int traversalImageRows = 0;
+    /// 2D hierarchical only: [Bins] [Limit] 0..4096. Angular bins of the traversal's image. 0 (the
+    /// default) follows the view: bins of 0.002 rad, at least 64 (786 at 90 degrees, 3,142 for the full
+    /// circle, capped at 4,096), fine enough that a closed room's corner closes (BrickPass.cpp).
+    int traversalImageBins = 0;
 };
 
 template <int D> class Culler {

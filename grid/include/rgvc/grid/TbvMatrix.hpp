@@ -137,16 +137,18 @@ inline bool tbvCovers2D(const TbvRegion<2>& r, const IVec2& res, TbvDiscretizati
     return in;
 }
 
-/// The voxel box [lo, hi] touched by a cube region, clipped to the grid; false if it misses the grid.
-inline bool tbvVoxelBox3D(const TbvRegion<3>& r, const IVec3& res, IVec3& lo, IVec3& hi) {
+/// The voxel box [lo, hi] touched by a region (the disc's or the cube's bounding box), clipped to the
+/// grid; false if it misses the grid.
+template <int D> inline bool tbvVoxelBox(const TbvRegion<D>& r, const IVec<D>& res, IVec<D>& lo, IVec<D>& hi) {
     const double outer = r.radius + kConservativeSlack;
-    for (int a = 0; a < 3; ++a) {
+    for (int a = 0; a < D; ++a) {
         lo[a] = std::max<std::int32_t>(0, std::int32_t(std::ceil(r.centre[a] - outer)) - 1);
         hi[a] = std::min<std::int32_t>(res[a] - 1, std::int32_t(std::floor(r.centre[a] + outer)));
         if (lo[a] > hi[a]) return false;
     }
     return true;
 }
+inline bool tbvVoxelBox3D(const TbvRegion<3>& r, const IVec3& res, IVec3& lo, IVec3& hi) { return tbvVoxelBox<3>(r, res, lo, hi); }
 
 template <int D> class TbvMatrix;
 
@@ -239,6 +241,15 @@ public:
 
     /// Makes every later lookup read-only (see TbvMatrix<3>::freshen); 2D lookups always are.
     void freshen() {}
+    /// Whether some TBV may hold voxel v: one count read (false is a guarantee; true may be a saturated
+    /// count, which collectAt settles).
+    bool mayHoldAt(const IVec2& v) const { return m_live != 0 && m_counts[key(v.x, v.y)] != 0; }
+    /// Whether some TBV may hold a voxel of tile t (tile coordinates, 8 x 8 voxels: the brick traversal's
+    /// bricks): false is a guarantee (every insert lists the slot in each tile its ring crosses).
+    bool mayHoldTile(const IVec2& t) const {
+        return m_live != 0 && !m_tileHeads.empty() &&
+               m_tileHeads[std::size_t(t.y) * std::size_t(m_tiles.x) + std::size_t(t.x)] != kNone;
+    }
     std::size_t liveRegions() const { return m_live; }
     bool allocated() const { return !m_counts.empty(); }
     std::size_t incidences() const { return m_incidences; }

@@ -22,6 +22,8 @@ public:
     double fov() const { return m_fov; }
     double far() const { return m_far; }
     bool isFullCircle() const { return m_full; }
+    /// Narrower than 180 degrees (a convex wedge).
+    bool isConvex() const { return m_convex; }
     /// [Voxel units] kConservativeSlack, or the grid's conversionSlack() when built from world units.
     double slack() const { return m_slack; }
     /// Unit directions of the two bounding rays (clockwise edge first).

@@ -16,13 +16,7 @@
 //     and the box's whole extent: it does not depend on how a wall is turned against the grid, the
 //     shells or the view.
 //
-// Order. Children are visited nearest first: with near = the child on the camera's side of the node's
-// split plane on each axis, child near ^ i for i = 0, 1, ..., 7. A ray crosses each split plane at most
-// once, from the near to the far side, so the children it meets have growing sets of flipped bits, and
-// a child with a superset of another's flipped bits has a larger i: no child is visited before one that
-// can lie in front of it along a ray. The order matters only for effectiveness (occluders drawn before
-// what they hide is tested); soundness does not depend on it, because every fact in the image is true
-// whenever it was drawn.
+// Order and the soundness of skipping empty nodes: BrickWalk.hpp, shared with the 2D traversal.
 //
 // Soundness of a skipped node. (1) Empty: nothing in it can enter the PVS or reveal a TBV. (2) Outside
 // the frustum (ViewFrustum::touchesBox is conservative): no point of it is in view. (3) Hidden: every
@@ -37,6 +31,7 @@
 #pragma once
 
 #include "rgvc/grid/BrickPyramid.hpp"
+#include "rgvc/grid/BrickWalk.hpp"
 #include "rgvc/grid/GridGeometry.hpp"
 #include "rgvc/grid/OcclusionBuffer3D.hpp"
 #include "rgvc/grid/ViewFrustum.hpp"
@@ -82,58 +77,31 @@ public:
                               OcclusionBuffer3D* image, std::uint32_t stamp, MayHoldTbv&& mayHoldTbv,
                               OnVoxel&& onVoxel, OnTbvs&& onTbvs, InsideObject&& insideObject) {
         BrickTraversalStats3D st;
-        const BrickPyramid<3>& tree = storage.bricks();
         const IVec3 res = grid.resolution();
-        const Vec3& apex = frustum.apex();
         const double grow = frustum.slack();
-        m_stack.clear();
-        m_stack.push_back({tree.levels() - 1, IVec3(0)});
-        while (!m_stack.empty()) {
-            const Node n = m_stack.back();
-            m_stack.pop_back();
-            ++st.nodesVisited;
-            if (!tree.occupied(n.level, n.c)) {
-                ++st.nodesEmpty;
-                continue;
-            }
-            const std::int32_t side = BrickPyramid<3>::kBrickSize << n.level; // voxels per axis
-            const IVec3 lo = n.c * side;
-            const IVec3 hi = glm::min(lo + side, res);
-            const Vec3 loF(lo), hiF(hi);
-            if (!frustum.touchesBox(loF, hiF)) {
-                ++st.nodesOutside;
-                continue;
-            }
-            if (image != nullptr && image->hidden(Box<3>{loF, hiF}, grow)) {
-                ++st.nodesHidden;
-                continue;
-            }
-            if (n.level == 0) {
-                visitBrick(grid, storage, frustum, image, n.c, lo, hi, stamp, mayHoldTbv(n.c), onVoxel, onTbvs, insideObject, st);
-                continue;
-            }
-            // Children nearest first: pushed in reverse order, so near ^ 0 pops first.
-            const IVec3 dims = tree.dims(n.level - 1);
-            const std::int32_t half = side >> 1;
-            int near = 0;
-            for (int a = 0; a < 3; ++a)
-                if (apex[a] >= double(lo[a] + half)) near |= 1 << a;
-            for (int i = 7; i >= 0; --i) {
-                const int bits = near ^ i;
-                const IVec3 cc{2 * n.c.x + (bits & 1), 2 * n.c.y + ((bits >> 1) & 1), 2 * n.c.z + ((bits >> 2) & 1)};
-                if (cc.x >= dims.x || cc.y >= dims.y || cc.z >= dims.z) continue;
-                m_stack.push_back({n.level - 1, cc});
-            }
-        }
+        const BrickWalkStats ws = walkBricks<3>(
+            storage.bricks(), res, frustum.apex(), m_stack,
+            [&](const IVec3& lo, const IVec3& hi) {
+                const Vec3 loF(lo), hiF(hi);
+                if (!frustum.touchesBox(loF, hiF)) {
+                    ++st.nodesOutside;
+                    return true;
+                }
+                if (image != nullptr && image->hidden(Box<3>{loF, hiF}, grow)) {
+                    ++st.nodesHidden;
+                    return true;
+                }
+                return false;
+            },
+            [&](const IVec3& brick, const IVec3& lo, const IVec3& hi) {
+                visitBrick(grid, storage, frustum, image, brick, lo, hi, stamp, mayHoldTbv(brick), onVoxel, onTbvs, insideObject, st);
+            });
+        st.nodesVisited = ws.nodesVisited;
+        st.nodesEmpty = ws.nodesEmpty;
         return st;
     }
 
 private:
-    struct Node {
-        int level;
-        IVec3 c;
-    };
-
     template <class OnVoxel, class OnTbvs, class InsideObject>
     void visitBrick(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D* image,
                     const IVec3& brick, const IVec3& lo, const IVec3& hi, std::uint32_t stamp, bool tbvHere,
@@ -264,7 +232,7 @@ private:
     static constexpr std::int32_t kMaxGrow = 64;
     static constexpr double kMinOccluderPixels = 4; // smaller fused boxes are not drawn (OcclusionBuffer3D::spans)
     std::array<RowInfo, 64> m_rows{}; // a brick's 8 x 8 rows
-    std::vector<Node> m_stack;
+    std::vector<BrickNode<3>> m_stack;
 };
 
 } // namespace rgvc
