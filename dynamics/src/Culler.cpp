@@ -259,11 +259,13 @@ template <int D> VoxelState Culler<D>::voxelState(const IVec<D>& v) const {
     s.inGrid = true;
     s.opaque = m.storage.opaque(key);
     s.occluded = m.frame != 0 && m.storage.occluded(key, m.frame);
-    if (m.main.imageKept) { // the brick walk keeps no H: in view, and hidden in its image from the camera point
+    s.visited = m.frame != 0 && m.storage.visited(key, m.frame);
+    // The brick walk keeps no H: a voxel it did not read that lies in view and is hidden in its final image
+    // from the camera point (a voxel it read lay in a node the image did not hide when the walk reached it).
+    if (m.main.imageKept && !s.visited) {
         const Vec<D> lo(v), hi = Vec<D>(v) + 1.0;
         s.occluded = m.main.imageView.touchesBox(lo, hi) && m.main.traversalImage.hidden(Box<D>{lo, hi}, m.main.imageView.slack());
     }
-    s.visited = m.frame != 0 && m.storage.visited(key, m.frame);
     s.occluder = m.frame != 0 && m.storage.used(key, m.frame);
     s.hasIds = m.storage.hasIds(key);
     s.hasTbv = m.tbvs.holdsAt(v);
