@@ -531,6 +531,83 @@ TEST_CASE("scenes/polytopes-3d.json (turned walls, hull rocks, moving obb crates
     CHECK(pvsTotal * 10 < inViewTotal * 8);
 }
 
+// The contract's visibility with roles: occludees block nothing, so an occludee X is visible exactly when
+// it is visible among the non-occludees plus X alone (as tests/test_roles.cpp's reference).
+std::vector<bool> visibleWithRoles3D(const std::vector<rgvc::Shape<3>>& shapes, const std::vector<bool>& occludee,
+                                     const rgvc::Camera3& cam) {
+    std::vector<rgvc::Shape<3>> blockers;
+    std::vector<std::size_t> index;
+    for (std::size_t i = 0; i < shapes.size(); ++i)
+        if (!occludee[i]) {
+            blockers.push_back(shapes[i]);
+            index.push_back(i);
+        }
+    std::vector<bool> visible(shapes.size(), false);
+    const std::vector<bool> base = rgvc::reference::visible3D(blockers, cam);
+    for (std::size_t k = 0; k < index.size(); ++k) visible[index[k]] = base[k];
+    for (std::size_t i = 0; i < shapes.size(); ++i) {
+        if (!occludee[i]) continue;
+        std::vector<rgvc::Shape<3>> withX = blockers;
+        withX.push_back(shapes[i]);
+        visible[i] = rgvc::reference::visible3D(withX, cam).back();
+    }
+    return visible;
+}
+
+TEST_CASE("scenes/mesh-3d.json (OBJ and glTF houses as hull occludees, spheres, a wall): no miss", "[cli][mesh]") {
+    // The culler gets each mesh as its convex hull with role occludee (apps/scene/SceneMesh.cpp): the
+    // hull contains the mesh, so the exact reference on those hulls, occludees blocking nothing, sees a
+    // superset of what the file's meshes would show. Every object it sees must be printed.
+    const std::string path = scenePath("mesh-3d.json");
+    const std::size_t frames = 12;
+    Run r = runRgvc("cull " + quote(path) + " --frames " + std::to_string(frames));
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    const std::vector<json> lines = r.lines();
+    checkLines(lines, frames);
+    const rgvc::Scene scene = rgvc::loadScene(path);
+    const rgvc::SceneData3& d = *scene.as<3>();
+    std::vector<bool> occludee;
+    std::size_t meshes = 0;
+    for (const auto& o : d.objects) {
+        occludee.push_back(o.role == rgvc::ObjectRole::Occludee);
+        if (o.mesh) {
+            ++meshes;
+            CHECK(o.role == rgvc::ObjectRole::Occludee);
+            CHECK(o.mesh->closed);
+        }
+    }
+    CHECK(meshes == 4);
+    rgvc::SceneSimulator3 sim(d);
+    std::size_t visibleTotal = 0, pvsTotal = 0, meshSeen = 0, behindHouse = 0, behindWall = 0;
+    for (std::size_t t = 0; t < frames; ++t) {
+        if (t > 0) sim.step();
+        const rgvc::Camera3 cam = d.cameraAt(t);
+        std::vector<rgvc::Shape<3>> all;
+        for (std::size_t i = 0; i < sim.size(); ++i) all.push_back(sim.shapeAt(i));
+        const std::vector<bool> vis = visibleWithRoles3D(all, occludee, cam);
+        const std::vector<rgvc::ObjectId> pvs = lines[t]["pvs"].get<std::vector<rgvc::ObjectId>>();
+        auto has = [&](rgvc::ObjectId id) { return std::binary_search(pvs.begin(), pvs.end(), id); };
+        std::vector<rgvc::ObjectId> missed;
+        for (std::size_t k = 0; k < all.size(); ++k) {
+            visibleTotal += vis[k];
+            if (vis[k] && !has(sim.idAt(k))) missed.push_back(sim.idAt(k));
+            if (vis[k] && d.objects[k].mesh) ++meshSeen;
+        }
+        pvsTotal += pvs.size();
+        INFO("frame " << t << ": missed " << json(missed).dump());
+        CHECK(missed.empty());
+        // Sphere 5 sits right behind house 1: a mesh hides nothing, so it is printed.
+        behindHouse += has(5);
+        // Sphere 6 is behind the wall (box 4) all along: culled.
+        behindWall += !has(6);
+    }
+    std::printf("mesh-3d.json, %zu frames: visible %zu, PVS %zu\n", frames, visibleTotal, pvsTotal);
+    CHECK(meshSeen >= frames); // the houses in front are seen every frame
+    CHECK(behindHouse == frames);
+    CHECK(behindWall == frames);
+}
+
 TEST_CASE("cameras and objects outside the grid are legal", "[cli]") {
     json j = goodScene();
     j["camera"]["position"] = {-20.5, 30};

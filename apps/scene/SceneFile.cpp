@@ -7,6 +7,9 @@
 // keeps one definition of "a valid radius" for the library and its file format.
 #include "SceneFile.hpp"
 
+#include "MeshFile.hpp"
+#include "SceneMesh.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <array>
@@ -195,6 +198,11 @@ class Reader {
 public:
     explicit Reader(std::string file) : m_file(std::move(file)) {}
 
+    /// A path the file gives (a mesh's `file`), resolved against the scene file's directory.
+    std::string resolve(const std::string& relative) const {
+        return (std::filesystem::path(m_file).parent_path() / relative).string();
+    }
+
     [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
         throw SceneError(m_file, field, problem);
     }
@@ -360,11 +368,57 @@ std::optional<std::vector<SceneCameraPose<D>>> readPath(const Reader& r, const j
     return path;
 }
 
-template <int D> Shape<D> readShape(const Reader& r, const json& o, const std::string& f) {
+// `rotation`: a unit quaternion [x, y, z, w] within kQuaternionTolerance, normalised.
+std::array<double, 4> readQuaternion(const Reader& r, const json& q, const std::string& field) {
+    if (!q.is_array() || q.size() != 4)
+        r.fail(field, "must be a unit quaternion [x, y, z, w] (4 numbers), got " +
+                          (q.is_array() ? std::to_string(q.size()) + " numbers" : Reader::describe(q)));
+    std::array<double, 4> rot{};
+    for (std::size_t i = 0; i < 4; ++i) rot[i] = r.number(q[i], field + "[" + std::to_string(i) + "]");
+    const double len = std::sqrt(rot[0] * rot[0] + rot[1] * rot[1] + rot[2] * rot[2] + rot[3] * rot[3]);
+    if (!(std::abs(len - 1) <= kQuaternionTolerance))
+        r.fail(field, "must be a unit quaternion (length " + std::to_string(len) + ")");
+    for (double& c : rot) c /= len;
+    return rot;
+}
+
+// `"shape": "mesh"`: the file read, placed and turned into its hull as an occludee (SceneMesh.cpp).
+Shape<3> readMesh(const Reader& r, const json& o, const std::string& f, std::optional<SceneMeshInfo>& info) {
+    const json& file = r.require(o, "file", f);
+    if (!file.is_string() || file.get<std::string>().empty())
+        r.fail(f + ".file", "must be a non-empty string (a .gltf, .glb or .obj file relative to the scene file)");
+    MeshPlacement placement;
+    if (const json* t = r.optional(o, "translation")) placement.translation = r.vec<3>(*t, f + ".translation");
+    if (const json* q = r.optional(o, "rotation")) placement.rotation = readQuaternion(r, *q, f + ".rotation");
+    if (const json* sc = r.optional(o, "scale")) {
+        if (sc->is_number()) {
+            const double s = r.number(*sc, f + ".scale");
+            placement.scale = Vec3(s, s, s);
+        } else if (sc->is_array()) {
+            placement.scale = r.vec<3>(*sc, f + ".scale");
+        } else {
+            r.fail(f + ".scale", "must be a number or an array of 3 numbers, got " + Reader::describe(*sc));
+        }
+        for (int a = 0; a < 3; ++a)
+            if (placement.scale[a] == 0) r.fail(f + ".scale", "must be non-zero on every axis");
+    }
+    SceneMeshInfo mesh;
+    Shape<3> shape;
+    try {
+        r.library([&] { shape = meshOccludeeShape(r.resolve(file.get<std::string>()), placement, f, mesh); });
+    } catch (const MeshFileError& e) {
+        r.fail(f + ".file", e.what());
+    }
+    info = mesh;
+    return shape;
+}
+
+template <int D>
+Shape<D> readShape(const Reader& r, const json& o, const std::string& f, std::optional<SceneMeshInfo>& mesh) {
     const json& kind = r.require(o, "shape", f);
     if (!kind.is_string()) r.fail(f + ".shape", "must be a string, got " + Reader::describe(kind));
     const std::string name = kind.get<std::string>();
-    const char* expected = D == 2 ? "circle, box or polygon" : "sphere, box, obb or hull";
+    const char* expected = D == 2 ? "circle, box or polygon" : "sphere, box, obb, hull or mesh";
     Shape<D> shape;
     if (name == "circle" || name == "sphere") {
         if ((name == "circle") != (D == 2))
@@ -390,6 +444,12 @@ template <int D> Shape<D> readShape(const Reader& r, const json& o, const std::s
             shape = std::move(poly);
         } else {
             r.fail(f + ".shape", "\"polygon\" is a 2D shape; a 3D scene has " + std::string(expected));
+        }
+    } else if (name == "mesh") {
+        if constexpr (D == 3) {
+            shape = readMesh(r, o, f, mesh);
+        } else {
+            r.fail(f + ".shape", "\"mesh\" is a 3D shape; a 2D scene has " + std::string(expected));
         }
     } else if (name == "obb" || name == "hull") {
         if constexpr (D == 3) {
@@ -440,7 +500,7 @@ template <int D> std::vector<SceneObject<D>> readObjects(const Reader& r, const 
         auto [it, fresh] = seen.emplace(obj.id, i);
         if (!fresh)
             r.fail(f + ".id", "duplicate id " + std::to_string(obj.id) + " (also objects[" + std::to_string(it->second) + "])");
-        obj.shape = readShape<D>(r, o, f);
+        obj.shape = readShape<D>(r, o, f, obj.mesh);
 
         if (const json* v = r.optional(o, "velocity")) obj.velocity = r.vec<D>(*v, f + ".velocity");
         const double speed = std::sqrt(lengthSquared<D>(obj.velocity));
@@ -471,6 +531,11 @@ template <int D> std::vector<SceneObject<D>> readObjects(const Reader& r, const 
             else
                 r.fail(f + ".role", "must be \"both\", \"occludee\" or \"occluder\", got " +
                                         (role->is_string() ? role->dump() : Reader::describe(*role)));
+        }
+        // Meshes never occlude (yet): see SceneMesh.cpp for why the hull as an occludee is conservative.
+        if (obj.mesh) {
+            obj.mesh->requestedRole = obj.role;
+            obj.role = ObjectRole::Occludee;
         }
         objects.push_back(std::move(obj));
     }

@@ -47,6 +47,17 @@ private:
     std::string m_file, m_field, m_problem;
 };
 
+/// What a `"shape": "mesh"` object was read from (3D only). The culler gets the mesh's convex hull as an
+/// occludee (see SceneMesh.cpp for why that is conservative); this keeps what the file said.
+struct SceneMeshInfo {
+    std::string file;          ///< the path as resolved against the scene file's directory
+    std::size_t triangles = 0; ///< after dropping triangles that repeat a vertex index
+    std::size_t vertices = 0;
+    bool closed = false;       ///< analyzeMeshTopology(welded mesh).closed(): a solid; else a surface
+    /// `role` as the file gave it (the object's `role` is always Occludee: meshes do not occlude yet).
+    ObjectRole requestedRole = ObjectRole::Both;
+};
+
 /// One object of a scene, as the file gives it.
 template <int D> struct SceneObject {
     ObjectId id = 0;         ///< Unique within the scene, >= 0.
@@ -57,6 +68,9 @@ template <int D> struct SceneObject {
     ObjectRole role = ObjectRole::Both; ///< `role`: "both" (default), "occludee", "occluder".
     /// [World units] `occluder_inset` (an rgvc addition to the format, default 0): ObjectDesc::occluderInset.
     double occluderInset = 0;
+    /// Set for `"shape": "mesh"`: `shape` is then the ConvexPolytope of the transformed mesh's hull (or,
+    /// for a flat mesh or one of more than kMaxHullPoints vertices, a box around it) and role Occludee.
+    std::optional<SceneMeshInfo> mesh;
 
     /// The object as the culler wants it at frame 0.
     ObjectDesc<D> desc() const { return {id, shape, isStatic, maxSpeed, occluderInset, role}; }
@@ -99,13 +113,15 @@ struct Scene {
 };
 
 /// Reads and validates a scene file.
-/// @param path  file name; also the <file> part of error messages, as given.
+/// @param path  file name; also the <file> part of error messages, as given. Mesh `file`s are
+///              resolved against its directory.
 /// @throws SceneError on any bad input (see the header comment); never anything else except bad_alloc.
 Scene loadScene(const std::string& path);
 
 /// Validates a scene given as JSON text.
 /// @param jsonText       the whole document (UTF-8).
-/// @param nameForErrors  the <file> part of error messages.
+/// @param nameForErrors  the <file> part of error messages; mesh `file`s are resolved against its directory
+///                       (the current directory when it has none).
 /// @throws SceneError as loadScene.
 Scene parseScene(const std::string& jsonText, const std::string& nameForErrors);
 
