@@ -608,6 +608,55 @@ TEST_CASE("scenes/mesh-3d.json (OBJ and glTF houses as hull occludees, spheres, 
     CHECK(behindWall == frames);
 }
 
+TEST_CASE("mesh-3d.json's objects from 40 random cameras (a camera_path): no miss", "[cli][mesh]") {
+    // The scene with absolute mesh paths (the copy lives in a temp dir) and a random camera path in and
+    // around the grid; seed printed on failure.
+    const std::uint32_t seed = 20261201;
+    INFO("seed " << seed);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> ux(-4, 68), uy(0.5, 20), uz(-4, 68), ud(-1, 1);
+    json j = json::parse(std::ifstream(scenePath("mesh-3d.json")));
+    for (json& o : j["objects"])
+        if (o["shape"] == "mesh") o["file"] = (fs::path(RGVC_SCENES_DIR) / o["file"].get<std::string>()).string();
+    const std::size_t frames = 40;
+    json path = json::array();
+    for (std::size_t t = 0; t < frames; ++t) {
+        double dx = ud(rng), dz = ud(rng);
+        if (dx * dx + dz * dz < 0.01) dx = 1;
+        path.push_back({{"position", {ux(rng), uy(rng), uz(rng)}}, {"direction", {dx, 0.4 * ud(rng), dz}}});
+    }
+    j["camera_path"] = path;
+    const std::string file = writeTemp("mesh-random.json", j.dump());
+    Run r = runRgvc("cull " + quote(file) + " --frames " + std::to_string(frames));
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    const std::vector<json> lines = r.lines();
+    checkLines(lines, frames);
+    const rgvc::Scene scene = rgvc::loadScene(file);
+    const rgvc::SceneData3& d = *scene.as<3>();
+    std::vector<bool> occludee;
+    for (const auto& o : d.objects) occludee.push_back(o.role == rgvc::ObjectRole::Occludee);
+    rgvc::SceneSimulator3 sim(d);
+    std::size_t visibleTotal = 0, pvsTotal = 0;
+    for (std::size_t t = 0; t < frames; ++t) {
+        if (t > 0) sim.step();
+        std::vector<rgvc::Shape<3>> all;
+        for (std::size_t i = 0; i < sim.size(); ++i) all.push_back(sim.shapeAt(i));
+        const std::vector<bool> vis = visibleWithRoles3D(all, occludee, d.cameraAt(t));
+        const std::vector<rgvc::ObjectId> pvs = lines[t]["pvs"].get<std::vector<rgvc::ObjectId>>();
+        std::vector<rgvc::ObjectId> missed;
+        for (std::size_t k = 0; k < all.size(); ++k) {
+            visibleTotal += vis[k];
+            if (vis[k] && !std::binary_search(pvs.begin(), pvs.end(), sim.idAt(k))) missed.push_back(sim.idAt(k));
+        }
+        pvsTotal += pvs.size();
+        INFO("frame " << t << ": missed " << json(missed).dump());
+        CHECK(missed.empty());
+    }
+    std::printf("mesh-3d.json, %zu random cameras: visible %zu, PVS %zu\n", frames, visibleTotal, pvsTotal);
+    CHECK(visibleTotal > frames);
+}
+
 TEST_CASE("cameras and objects outside the grid are legal", "[cli]") {
     json j = goodScene();
     j["camera"]["position"] = {-20.5, 30};

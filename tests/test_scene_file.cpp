@@ -904,6 +904,25 @@ TEST_CASE("mesh objects: OBJ, glTF and GLB cubes placed by scale, rotation, tran
         sim.step();
         checkBounds(sim.shapeAt(2), Vec3(0, 0, 1), Vec3(1, 2, 4));
     }
+    SECTION("glTF variants: no indices (every three vertices a triangle), no scenes (meshes untransformed)") {
+        json g = json::parse(readFile(kDataDir + "/cube.gltf"));
+        g["meshes"][0]["primitives"][0].erase("indices");
+        const std::string dir = writeFile("noindex.gltf", g.dump());
+        Scene s = parseIn(dir, meshObject("noindex.gltf"));
+        const SceneObject<3>& m = s.as<3>()->objects.at(2);
+        checkBounds(m.shape, Vec3(10, 0, 0), Vec3(12, 2, 2)); // the node transform still applies
+        REQUIRE(m.mesh);
+        CHECK(m.mesh->triangles == 8);
+        CHECK_FALSE(m.mesh->closed);
+        json n = json::parse(readFile(kDataDir + "/cube.gltf"));
+        n.erase("scene");
+        n.erase("scenes");
+        writeFile("noscene.gltf", n.dump());
+        checkBounds(parseIn(dir, meshObject("noscene.gltf")).as<3>()->objects.at(2).shape, Vec3(0, 0, 0), Vec3(1, 1, 1));
+        // An absolute `file` is taken as it is.
+        checkBounds(parseIn("/nonexistent", meshObject(kDataDir + "/cube.obj")).as<3>()->objects.at(2).shape, Vec3(0, 0, 0),
+                    Vec3(1, 1, 1));
+    }
     SECTION("an open, flat mesh (one quad) is a surface: a thin box around it") {
         const std::string dir = writeFile("quad.obj", "v 0 0 0\nv 2 0 0\nv 2 0 3\nv 0 0 3\nf 1 2 3 4\n");
         Scene s = parseIn(dir, meshObject("quad.obj"));
