@@ -1,6 +1,8 @@
 // The README's library example, compiled and run as a test so that the documentation cannot rot.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 // --- README example begins ---
 #include <rgvc/rgvc.hpp>
 
@@ -89,6 +91,76 @@ std::vector<std::vector<rgvc::ObjectId>> viewsExample() {
 }
 // --- README views example ends ---
 
+// --- README game example begins ---
+#include <rgvc/rgvc.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+// A small 3D game loop: a street of buildings (boxes, a turned tower as an oriented box, a rock as a
+// convex hull) that hide what is behind them, a glass shop window that hides nothing, 200 movers, and two
+// views per frame (the player, and a security camera) culled in one call.
+struct Game {
+    rgvc::Culler3D culler{rgvc::GridGeometry3({0, 0, 0}, 1.0, {128, 32, 128})};
+    std::vector<rgvc::Vec3> moverAt, moverVelocity;
+    const rgvc::MultiCullResult* last = nullptr;
+    static constexpr rgvc::ObjectId kFirstMover = 100;
+
+    Game() {
+        // Buildings: occluders and occludees (the default role), static.
+        for (int i = 0; i < 6; ++i) {
+            const double x = 8 + 20 * i;
+            culler.addObject({.id = rgvc::ObjectId(1 + i), .shape = rgvc::Box<3>{{x, 0, 40}, {x + 16, 24, 56}}, .isStatic = true});
+        }
+        const double s = std::sqrt(0.5); // 90 degrees about y, as a quaternion [x, y, z, w]
+        culler.addObject({.id = 10, .shape = rgvc::makeOrientedBox({64, 14, 80}, {10, 14, 3}, {0, s * 0.5, 0, std::sqrt(1 - 0.125)}, "tower"),
+                          .isStatic = true});
+        const std::array<rgvc::Vec3, 5> rock = {{{30, 0, 20}, {36, 0, 21}, {33, 0, 26}, {33, 5, 22}, {31, 1, 23}}};
+        culler.addObject({.id = 11, .shape = rgvc::makeConvexHull(rock, "rock"), .isStatic = true});
+        // A shop window: reported when seen, never hides what is behind it.
+        culler.addObject({.id = 12, .shape = rgvc::Box<3>{{60, 0, 30}, {70, 6, 30.5}}, .isStatic = true,
+                          .role = rgvc::ObjectRole::Occludee});
+        // Movers on both sides of the street, at most 0.4 units a frame.
+        for (int i = 0; i < 200; ++i) {
+            const rgvc::Vec3 at{4.0 + (i * 37) % 120, 1.5, i % 2 == 0 ? 10.0 + (i * 13) % 25 : 62.0 + (i * 17) % 60};
+            moverAt.push_back(at);
+            moverVelocity.push_back({0.3 * std::cos(i), 0, 0.3 * std::sin(i)});
+            culler.addObject({.id = kFirstMover + rgvc::ObjectId(i), .shape = rgvc::Ball<3>{at, 1.0}, .maxSpeed = 0.4});
+        }
+    }
+
+    // One frame: move, tell the culler (updateObject), cull both views, draw what each sees.
+    std::size_t frame(int f) {
+        for (std::size_t i = 0; i < moverAt.size(); ++i) {
+            rgvc::Vec3 next = moverAt[i] + moverVelocity[i];
+            for (int a : {0, 2})
+                if (next[a] < 2 || next[a] > 126) moverVelocity[i][a] = -moverVelocity[i][a], next = moverAt[i];
+            moverAt[i] = next;
+            culler.updateObject(kFirstMover + rgvc::ObjectId(i), rgvc::Ball<3>{next, 1.0});
+        }
+        const std::array<rgvc::Camera3, 2> views = {{
+            {.position = {10.0 + 0.2 * f, 1.7, 5}, .direction = {0.3, 0, 1}, .fovDeg = 70, .aspect = 16.0 / 9},
+            {.position = {100, 20, 2}, .direction = {-1, -0.6, 1}, .fovDeg = 50},
+        }};
+        const rgvc::MultiCullResult& r = culler.cullViews(views);
+        last = &r;
+        std::size_t drawn = 0;
+        for (const rgvc::CullResult& view : r.views) drawn += view.pvs.size(); // draw view.pvs here
+        return drawn;
+    }
+};
+
+std::size_t gameExample() {
+    Game game;
+    std::size_t drawn = 0;
+    for (int f = 0; f < 30; ++f) drawn = game.frame(f);
+    std::printf("last frame: %zu objects drawn in two views, of %zu\n", drawn, game.culler.objectCount());
+    return drawn;
+}
+// --- README game example ends ---
+
 TEST_CASE("the README views example: one wall, two players, the same PVS on every executor", "[example][views]") {
     const std::vector<std::vector<rgvc::ObjectId>> pvs = viewsExample();
     REQUIRE(pvs.size() == 2);
@@ -110,4 +182,55 @@ TEST_CASE("the README example compiles, runs and hides the ball behind the wall"
     culler.addObject({.id = 2, .shape = rgvc::Ball<2>{{40, 30}, 3}, .maxSpeed = 0.5});
     const rgvc::CullResult& r = culler.cull({.position = {5.5, 30.25}, .direction = {1, 0}, .fovDeg = 90});
     CHECK(r.pvs == std::vector<rgvc::ObjectId>{1});
+}
+
+TEST_CASE("the README game example: buildings hide the movers behind them, the glass hides nothing", "[example][game]") {
+    Game game;
+    for (int f = 0; f < 30; ++f) game.frame(f);
+    REQUIRE(game.last != nullptr);
+    REQUIRE(game.last->views.size() == 2);
+    const std::vector<rgvc::ObjectId>& player = game.last->views[0].pvs;
+    auto inPvs = [&](rgvc::ObjectId id) { return std::find(player.begin(), player.end(), id) != player.end(); };
+    // Boxes that contain every occluder (the buildings, the tower's and the rock's bounds; not the glass).
+    std::vector<rgvc::Box<3>> occluders;
+    for (int b = 0; b < 6; ++b) occluders.push_back({{8.0 + 20 * b, 0, 40}, {24.0 + 20 * b, 24, 56}});
+    occluders.push_back({{50, 0, 67}, {78, 28, 93}}); // the tower's bounds (half extents 10 x 14 x 3, turned)
+    occluders.push_back({{30, 0, 20}, {36, 5, 26}});  // the rock's bounds
+    auto crosses = [](const rgvc::Box<3>& b, const rgvc::Vec3& from, const rgvc::Vec3& to) {
+        for (int k = 1; k < 800; ++k) {
+            const rgvc::Vec3 p = from + (to - from) * (k / 800.0);
+            if (p.x > b.min.x && p.x < b.max.x && p.y > b.min.y && p.y < b.max.y && p.z > b.min.z && p.z < b.max.z) return true;
+        }
+        return false;
+    };
+    const rgvc::Vec3 eye{10.0 + 0.2 * 29, 1.7, 5};
+    const rgvc::Vec3 d = rgvc::Vec3{0.3, 0, 1} / std::sqrt(1.09);
+    std::size_t visible = 0, behind = 0, behindCulled = 0;
+    for (std::size_t i = 0; i < game.moverAt.size(); ++i) {
+        const rgvc::Vec3 c = game.moverAt[i];
+        const rgvc::ObjectId id = Game::kFirstMover + rgvc::ObjectId(i);
+        bool open = true;
+        for (const rgvc::Box<3>& b : occluders) open = open && !crosses(b, eye, c);
+        const double along = (c - eye).x * d.x + (c - eye).z * d.z;
+        const bool wellInView = along > 3 && std::abs((c - eye).x * d.z - (c - eye).z * d.x) < 0.5 * along;
+        // Conservative: a mover whose centre the player sees down an open line is in the PVS.
+        if (open && wellInView) {
+            ++visible;
+            CHECK(inPvs(id));
+        }
+        // Effective: movers whose centre and top lie behind a building, seen from the player, are culled.
+        bool hiddenByBuilding = false;
+        for (int b = 0; b < 6; ++b)
+            hiddenByBuilding = hiddenByBuilding || (crosses(occluders[std::size_t(b)], eye, c) &&
+                                                    crosses(occluders[std::size_t(b)], eye, c + rgvc::Vec3{0, 1, 0}));
+        if (c.z > 58 && wellInView && hiddenByBuilding) {
+            ++behind;
+            behindCulled += !inPvs(id);
+        }
+    }
+    INFO("visible " << visible << ", behind a building " << behind << ", of them culled " << behindCulled);
+    CHECK(visible > 0);
+    CHECK(behind > 10);
+    CHECK(behindCulled * 10 >= behind * 8);
+    CHECK(gameExample() > 0);
 }
