@@ -688,6 +688,20 @@ TEST_CASE("rgvc demo --frames runs the motion through the TBV path and draws T",
     CHECK(bad.status == 2);
 }
 
+TEST_CASE("rgvc demo on 3D scenes: a top view and the camera's view, with no pixel showing a culled object", "[cli]") {
+    for (const char* name : {"polytopes-3d.json", "small-3d.json", "maze-3d.json"}) {
+        INFO(name);
+        const std::string png = (tempDir() / (std::string("demo3d-") + name + ".png")).string();
+        Run r = runRgvc("demo " + quote(scenePath(name)) + " --frames 12 --runs 1 --size 320 --out " + quote(png));
+        INFO(r.out << r.err);
+        REQUIRE(r.status == 0);
+        CHECK(r.out.find("dynamics: frame 11") != std::string::npos);
+        CHECK(r.out.find(" 0 show one the culler left out") != std::string::npos);
+        CHECK(r.out.find("view:     0 pixels") == std::string::npos); // the view shows something
+        CHECK(fs::file_size(png) > 1000);
+    }
+}
+
 #ifdef RGVC_HAS_GL
 TEST_CASE("cull --gl: the GL stage's pvs holds every object the item buffer of all objects shows", "[cli][gl]") {
     // The contract (scene-format.md, `rgvc cull`): with --gl, pvs is the GL stage's answer, and still

@@ -1,10 +1,12 @@
-// `rgvc demo [SCENE.json] [--out PATH.png] [--frames N] [--runs N] [--size PIXELS]`: culls a 2D scene,
-// prints a summary and writes a picture of the grid in the style of the paper's Figure 1 (rgvc::render).
+// `rgvc demo [SCENE.json] [--out PATH.png] [--frames N] [--runs N] [--size PIXELS]`: culls a scene,
+// prints a summary and writes a picture: for a 2D scene the grid in the style of the paper's Figure 1
+// (rgvc::render), for a 3D scene a top view of the grid beside the view from the camera (Demo3D.cpp).
 // With --frames N the scene's motion runs through the culler's TBV path first (as `rgvc cull` does), so the
 // picture shows the TBV boundaries in T of the hidden moving objects.
 //
 // The default scene is RGVC_DEFAULT_SCENE (set by apps/CMakeLists.txt to the source tree's
 // scenes/fig1-2d.json), else scenes/fig1-2d.json relative to the current directory.
+#include "Demo3D.hpp"
 #include "SceneFile.hpp"
 #include "SceneMotion.hpp"
 
@@ -32,13 +34,17 @@ namespace {
 const char* const kDemoUsage =
     "usage: rgvc demo [SCENE.json] [--out PATH.png] [--frames N] [--runs N] [--size PIXELS]\n"
     "\n"
-    "Culls a 2D scene for its camera, prints a summary and writes a picture of the grid after the\n"
-    "last cull, in the style of Figure 1 of the paper: opaque voxels dark gray, occluded light gray,\n"
+    "Culls a scene for its camera, prints a summary and writes a picture after the last cull.\n"
+    "2D: the grid in the style of Figure 1 of the paper: opaque voxels dark gray, occluded light gray,\n"
     "visited pale yellow, extended occluders purple, TBV boundaries (T) teal, PVS objects blue, hidden\n"
     "objects red, view edges solid, line of sight dashed, camera a black dot.\n"
+    "3D: left, a top view (x right, z down) of the grid's columns (any opaque voxel dark gray, T teal,\n"
+    "read pale yellow, in view and hidden light gray) with the objects' footprints (PVS blue, culled\n"
+    "red) and the camera; right, the view from the camera ray cast at pixel centres (PVS objects blue,\n"
+    "culled ones red: a red pixel would be a miss, and the summary counts them).\n"
     "\n"
     "arguments:\n"
-    "  SCENE.json      a 2D scene file (default: the repository's scenes/fig1-2d.json)\n"
+    "  SCENE.json      a 2D or 3D scene file (default: the repository's scenes/fig1-2d.json)\n"
     "  --out PATH.png  where to write the picture (default: rgvc-demo.png)\n"
     "  --frames N      run the scene's motion for N frames first (default: 1, just frame 0)\n"
     "  --runs N        cull the last frame N times and report the median time (default: 10)\n"
@@ -138,13 +144,88 @@ DemoArgs parseArgs(int argc, char** argv) {
     return a;
 }
 
+double medianOf(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string fmt(const Vec3& v) {
+    std::ostringstream os;
+    os << '(' << v.x << ", " << v.y << ", " << v.z << ')';
+    return os.str();
+}
+
+/// The 3D demo: the scene's motion through the culler's TBV path, the last frame culled `runs` times,
+/// the two-panel picture (Demo3D.hpp) and a summary that counts the picture's pixels showing a culled object.
+int demo3D(const DemoArgs& args, const std::string& scenePath, const Scene& scene) {
+    const SceneData3& data = *scene.as<3>();
+    requireFrames(scene, std::size_t(args.frames));
+    const std::size_t lastFrame = std::size_t(args.frames) - 1;
+    const Camera3 camera = data.cameraAt(lastFrame);
+    Culler3D culler(data.grid, sceneCullerOptions(data));
+    std::vector<ObjectDesc<3>> objects;
+    objects.reserve(data.objects.size());
+    for (const SceneObject<3>& o : data.objects) {
+        objects.push_back(o.desc());
+        culler.addObject(objects.back());
+    }
+    SceneSimulator3 sim(data);
+    const PlacementQuery<3> placementOf = [&sim](ObjectId id) { return sim.shape(id); };
+    for (std::size_t t = 0; t < lastFrame; ++t) {
+        culler.cull(data.cameraAt(t), placementOf);
+        sim.step();
+    }
+    for (std::size_t i = 0; i < objects.size(); ++i) objects[i].shape = sim.shapeAt(i);
+    std::vector<double> timesMs;
+    for (long run = 0; run < args.runs; ++run) {
+        const auto t0 = std::chrono::steady_clock::now();
+        culler.cull(camera, placementOf);
+        timesMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    const CullResult& r = culler.lastResult();
+    const CullStats& s = r.stats;
+    const GridGeometry3& g = data.grid;
+    const std::string caption = std::filesystem::path(scenePath).filename().string() + "   grid " +
+                                std::to_string(g.resolution().x) + " x " + std::to_string(g.resolution().y) + " x " +
+                                std::to_string(g.resolution().z) + "   " + std::to_string(objects.size()) +
+                                " objects   |PVS| " + std::to_string(r.pvs.size()) +
+                                (lastFrame > 0 ? "   frame " + std::to_string(lastFrame) : "");
+    const Demo3DResult pic = drawDemo3D(culler, camera, objects, int(std::max<long>(args.size, 128)), caption);
+    try {
+        writePng(args.out, pic.image);
+    } catch (const std::runtime_error& e) {
+        throw DemoError(std::string("cannot write the picture: ") + e.what());
+    }
+    std::ostringstream os;
+    os << "scene:    " << scenePath << "\n";
+    os << "grid:     " << g.resolution().x << " x " << g.resolution().y << " x " << g.resolution().z << " voxels of "
+       << fmt(g.voxelSize()) << ", origin " << fmt(g.origin()) << "\n";
+    os << "camera:   position " << fmt(camera.position) << ", direction " << fmt(camera.direction) << ", fov "
+       << fmt(camera.fovDeg) << " deg, aspect " << fmt(camera.aspect) << "\n";
+    os << "objects:  " << objects.size() << "\n";
+    os << "|PVS|:    " << r.pvs.size() << "\n";
+    os << "stats:    nodes visited " << s.nodesVisited << " (empty " << s.nodesEmpty << ", hidden " << s.nodesHidden
+       << "), bricks read " << s.bricksVisited << ", voxels read " << s.voxelsVisited << ", objects the image hid "
+       << s.imageHidden << ", fallback " << toString(s.fallback) << "\n";
+    os << "dynamics: frame " << lastFrame << ", hidden by TBVs " << s.hiddenObjects << ", TBVs revealed "
+       << s.tbvsRevealed << "\n";
+    os << "cull:     median " << fmt(medianOf(timesMs)) << " ms over " << timesMs.size() << " runs\n";
+    os << "view:     " << pic.pixelsCovered << " pixels show an object; " << pic.pixelsShownButCulled
+       << " show one the culler left out (must be 0)\n";
+    std::error_code ec;
+    std::filesystem::path abs = std::filesystem::absolute(args.out, ec);
+    os << "picture:  " << (ec ? args.out : abs.string()) << " (" << pic.image.width() << " x " << pic.image.height()
+       << " pixels)\n";
+    std::cout << os.str();
+    return pic.pixelsShownButCulled == 0 ? 0 : 1;
+}
+
 int demo(const DemoArgs& args) {
     const std::string scenePath = args.scene.empty() ? defaultScene() : args.scene;
     const Scene scene = loadScene(scenePath);
+    if (scene.as<3>() != nullptr) return demo3D(args, scenePath, scene);
     const SceneData2* data = scene.as<2>();
-    if (data == nullptr)
-        throw DemoError(scenePath + ": the demo draws 2D scenes only (this one has " +
-                        std::to_string(scene.dimensions) + " dimensions)");
 
     requireFrames(scene, std::size_t(args.frames));
     const std::size_t lastFrame = std::size_t(args.frames) - 1;
