@@ -703,6 +703,29 @@ TEST_CASE("rgvc demo on 3D scenes: a top view and the camera's view, with no pix
 }
 
 #ifdef RGVC_HAS_GL
+TEST_CASE("cull --gl: an occludee (glass) hides nothing in the GL stage either", "[cli][gl]") {
+    // A pane of glass fills the view in front of a sphere: the CPU keeps the sphere (an occludee hides
+    // nothing); the GL stage must not let the pane's depth hide it, and keeps the pane.
+    const std::string path = writeTemp("glass.json", R"({"dimensions": 3,
+        "grid": {"origin": [0, 0, 0], "voxel_size": 1, "resolution": [32, 16, 32]},
+        "camera": {"position": [16, 8, 2], "direction": [0, 0, 1], "fov_deg": 60},
+        "objects": [
+          {"id": 1, "shape": "box", "min": [0, 0, 10], "max": [32, 16, 11], "role": "occludee"},
+          {"id": 2, "shape": "sphere", "center": [16, 8, 20], "radius": 2},
+          {"id": 3, "shape": "box", "min": [0, 0, 25], "max": [32, 16, 26]},
+          {"id": 4, "shape": "sphere", "center": [16, 8, 29], "radius": 1}]})");
+    for (const char* method : {"chcpp", "sw", "zb"}) {
+        INFO(method);
+        Run r = runRgvc("cull " + quote(path) + " --frames 2 --gl --gl-method " + method);
+        INFO(r.err);
+        REQUIRE(r.status == 0);
+        for (const json& line : r.lines()) {
+            const std::vector<rgvc::ObjectId> pvs = line["pvs"].get<std::vector<rgvc::ObjectId>>();
+            CHECK(pvs == std::vector<rgvc::ObjectId>{1, 2, 3}); // 4 is behind the solid wall
+        }
+    }
+}
+
 TEST_CASE("cull --gl: the GL stage's pvs holds every object the item buffer of all objects shows", "[cli][gl]") {
     // The contract (scene-format.md, `rgvc cull`): with --gl, pvs is the GL stage's answer, and still
     // contains every object showing a pixel in an image of all objects at --gl-size. Checked per frame

@@ -36,6 +36,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 namespace rgvc::cli {
@@ -278,6 +279,10 @@ template <int D> int runFrames(const Scene& scene, const SceneData<D>& data, con
     std::unique_ptr<GlStage> gl;
     if constexpr (D == 3)
         if (args.gl.enabled) gl = std::make_unique<GlStage>(args.gl);
+    // Occludee-only objects (glass, foliage, meshes for now) hide nothing by the contract, but the GL stage
+    // writes depth for what it draws: they are kept out of it (not drawn, so they hide nothing there
+    // either) and every one of them in the CPU's PVS stays in the answer.
+    std::unordered_set<ObjectId> occludees;
     for (std::size_t i = 0; i < data.objects.size(); ++i) {
         try {
             ObjectDesc<D> desc = data.objects[i].desc();
@@ -285,7 +290,8 @@ template <int D> int runFrames(const Scene& scene, const SceneData<D>& data, con
                 if (gl) {
                     // The culler's occluder inside the drawn mesh (GlStage.hpp).
                     desc.occluderInset = gl->occluderInset(desc.shape);
-                    gl->setObject(desc.id, desc.shape);
+                    if (desc.role == ObjectRole::Occludee) occludees.insert(desc.id);
+                    else gl->setObject(desc.id, desc.shape);
                 }
             culler->addObject(desc);
         } catch (const InvalidInput& e) {
@@ -314,9 +320,15 @@ template <int D> int runFrames(const Scene& scene, const SceneData<D>& data, con
         if constexpr (D == 3)
             if (gl) {
                 if (t > 0)
-                    for (std::size_t i = 0; i < sim.size(); ++i) gl->setObject(sim.idAt(i), sim.shapeAt(i));
-                const std::vector<ObjectId>& glPvs = gl->frame(data.cameraAt(t), pvs, stats);
-                pvs = glPvs;
+                    for (std::size_t i = 0; i < sim.size(); ++i)
+                        if (!occludees.count(sim.idAt(i))) gl->setObject(sim.idAt(i), sim.shapeAt(i));
+                std::vector<ObjectId> drawable, kept;
+                for (ObjectId id : pvs) (occludees.count(id) ? kept : drawable).push_back(id);
+                const std::vector<ObjectId>& glPvs = gl->frame(data.cameraAt(t), drawable, stats);
+                if (!kept.empty()) stats["gl_occludees_kept"] = kept.size();
+                kept.insert(kept.end(), glPvs.begin(), glPvs.end());
+                std::sort(kept.begin(), kept.end());
+                pvs = std::move(kept);
             }
         ojson line;
         line["frame"] = t;
