@@ -50,7 +50,7 @@ else
   stage_start=$SECONDS
   cmake -S . -B "$fuzz" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
     -DCMAKE_CXX_COMPILER=clang++ -DRGVC_BUILD_FUZZERS=ON
-  cmake --build "$fuzz" -j"$jobs" --target fuzz_scene_loader fuzz_culler2d fuzz_culler3d
+  cmake --build "$fuzz" -j"$jobs" --target fuzz_scene_loader fuzz_culler2d fuzz_culler3d fuzz_mesh_file
   (cd "$fuzz" && ctest -L fuzz --output-on-failure -j"$jobs")
   echo "bootstrap: fuzz smoke tests passed in $((SECONDS - stage_start))s; all stages passed in ${SECONDS}s"
 fi

@@ -7,7 +7,7 @@
 #   scripts/fuzz.sh minimize TARGET FILE   shrink a crashing input to a smaller one that still crashes
 #
 # TARGET: scene_loader (bytes -> parseScene), culler2d or culler3d (bytes -> Culler2D/Culler3D
-#         add/update/remove/cull).
+#         add/update/remove/cull), mesh_file (bytes -> an .obj/.gltf/.glb file -> the mesh's culler shape).
 # Environment:
 #   SECONDS_PER_TARGET  fuzzing time per target (default 600)
 #   FORKS               parallel fuzzing processes per target (libFuzzer -fork; default 1)
@@ -35,12 +35,13 @@ usage() { sed -n '2,23p' "$0" >&2; exit 2; }
 flags_for() { # the same flags as the ctest smoke tests (tests/fuzz/CMakeLists.txt)
   local t=$1
   local f=(-timeout=10 -rss_limit_mb=2048 "-artifact_prefix=$build/tests/fuzz/artifacts/$t-")
-  if [ "$t" = scene_loader ]; then f+=(-max_len=8192 "-dict=tests/fuzz/scene.dict"); else f+=(-max_len=1024); fi
+  if [ "$t" = scene_loader ]; then f+=(-max_len=8192 "-dict=tests/fuzz/scene.dict");
+  elif [ "$t" = mesh_file ]; then f+=(-max_len=4096); else f+=(-max_len=1024); fi
   printf '%s\n' "${f[@]}"
 }
 
 check_target() {
-  case "$1" in scene_loader|culler2d|culler3d) ;; *) echo "fuzz.sh: unknown target '$1' (scene_loader, culler2d or culler3d)" >&2; exit 2 ;; esac
+  case "$1" in scene_loader|culler2d|culler3d|mesh_file) ;; *) echo "fuzz.sh: unknown target '$1' (scene_loader, culler2d, culler3d or mesh_file)" >&2; exit 2 ;; esac
 }
 
 build_fuzzers() {
@@ -74,7 +75,7 @@ case "$mode" in
 esac
 
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(scene_loader culler2d culler3d)
+[ ${#targets[@]} -gt 0 ] || targets=(scene_loader culler2d culler3d mesh_file)
 for t in "${targets[@]}"; do check_target "$t"; done
 build_fuzzers
 

@@ -245,7 +245,7 @@ template <int D> inline bool insetShape(const Shape<D>& s, double d, Shape<D>& o
                 out = b;
                 return true;
             } else if constexpr (std::is_same_v<T, ConvexPolytope>) {
-                ConvexPolytope r;
+                T r; // T, not ConvexPolytope: keeps the branch dependent, so that D = 2 never instantiates it (clang)
                 if (!erodePolytope(x, d, r)) return false;
                 out = std::move(r);
                 return true;
