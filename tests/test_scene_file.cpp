@@ -953,6 +953,16 @@ TEST_CASE("bad mesh objects and files: one line naming the scene, objects[i].fil
     badIndex["accessors"][1]["componentType"] = 5126; // float indices
     json pastEnd = json::parse(cubeGltf);
     pastEnd["accessors"][0]["count"] = 400; // more vertices than the buffer holds
+    // External buffers only from regular files beside the glTF file: not a device reached through "..",
+    // not a file outside the directory (one is written there below).
+    json devZero = json::parse(cubeGltf);
+    devZero["buffers"][0]["uri"] = "../../../../../../../../dev/zero";
+    json outside = json::parse(cubeGltf);
+    outside["buffers"][0]["uri"] = "../rgvc_test_scene_outside.bin";
+    {
+        std::ofstream f(std::filesystem::temp_directory_path() / "rgvc_test_scene_outside.bin", std::ios::binary);
+        f << std::string(4096, '\0');
+    }
     struct Bad {
         const char* name;
         std::string bytes;
@@ -970,6 +980,8 @@ TEST_CASE("bad mesh objects and files: one line naming the scene, objects[i].fil
         {"strip.gltf", strip.dump(), "mode 5"},
         {"floatindex.gltf", badIndex.dump(), "indices"},
         {"pastend.gltf", pastEnd.dump(), "end of its buffer"},
+        {"devzero.gltf", devZero.dump(), "glTF"},
+        {"outside.gltf", outside.dump(), "glTF"},
         {"cube.stl", "solid x\nendsolid x\n", "extension"},
     };
     std::string dir;

@@ -258,9 +258,64 @@ bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int
     return true;
 }
 
+// External buffers and images (`"uri": "x.bin"`) are read only from regular files inside the glTF file's
+// own directory, and only up to kMaxMeshFileBytes: tinygltf's default callbacks read whatever path a
+// hostile file names ("../../dev/zero", a FIFO that blocks for ever, a file of gigabytes). The directory
+// is canonical, and so is each candidate, so ".." and symbolic links cannot lead out of it.
+struct GltfFiles {
+    std::filesystem::path dir; // canonical
+};
+
+bool insideDir(const std::string& file, const GltfFiles& g, std::filesystem::path& canonical) {
+    std::error_code ec;
+    canonical = std::filesystem::weakly_canonical(std::filesystem::path(file), ec);
+    if (ec || !std::filesystem::is_regular_file(canonical, ec) || ec) return false;
+    const std::string d = g.dir.string(), c = canonical.string();
+    return c.size() > d.size() && c.compare(0, d.size(), d) == 0 && (d.back() == '/' || c[d.size()] == '/');
+}
+
+bool gltfFileExists(const std::string& file, void* user) {
+    std::filesystem::path c;
+    return insideDir(file, *static_cast<const GltfFiles*>(user), c);
+}
+
+std::string gltfExpandPath(const std::string& file, void*) { return file; } // no ~ or $VAR expansion
+
+bool gltfReadFile(std::vector<unsigned char>* out, std::string* err, const std::string& file, void* user) {
+    std::filesystem::path c;
+    if (!insideDir(file, *static_cast<const GltfFiles*>(user), c)) {
+        if (err) *err += "file '" + file + "' is not a regular file beside the glTF file";
+        return false;
+    }
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(c, ec);
+    if (ec || size == 0 || size > kMaxMeshFileBytes) {
+        if (err) *err += "file '" + file + "' is empty, larger than the limit or unreadable";
+        return false;
+    }
+    std::ifstream in(c, std::ios::binary);
+    out->resize(std::size_t(size));
+    if (size > 0 && !in.read(reinterpret_cast<char*>(out->data()), std::streamsize(size))) {
+        if (err) *err += "cannot read external file '" + file + "'";
+        return false;
+    }
+    return true;
+}
+
+bool gltfWriteFile(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err += "writing is not allowed";
+    return false;
+}
+
 TriangleMesh readGltf(const std::string& path, bool binary) {
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&skipImage, nullptr);
+    GltfFiles files;
+    {
+        std::error_code ec;
+        files.dir = std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec).parent_path(), ec);
+    }
+    loader.SetFsCallbacks({&gltfFileExists, &gltfExpandPath, &gltfReadFile, &gltfWriteFile, &files});
     tinygltf::Model model;
     std::string err, warn;
     const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path) : loader.LoadASCIIFromFile(&model, &err, &warn, path);

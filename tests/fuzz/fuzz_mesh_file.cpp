@@ -7,8 +7,8 @@
 // usable: it passes the core's validateMesh, and the shape the culler gets passes validateShape and
 // contains every placed vertex (it must: the hull is what makes the mesh conservative).
 //
-// The readers take a path, so each input is written to a file of this process (the scene loader's
-// mesh files are files too; libtinygltf and tinyobjloader read from disk).
+// The readers take a path, so each input is written to a file in a directory of this process (the scene
+// loader's mesh files are files too; libtinygltf and tinyobjloader read from disk).
 //
 // Build: -DRGVC_BUILD_FUZZERS=ON -DCMAKE_CXX_COMPILER=clang++; run: scripts/fuzz.sh mesh_file.
 #include "MeshFile.hpp"
@@ -49,7 +49,14 @@ bool inside(const rgvc::Shape<3>& shape, const rgvc::Vec3& p) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size < 1) return 0;
     static const char* const kExt[] = {".obj", ".gltf", ".glb"};
-    const std::string path = "/tmp/rgvc-fuzz-mesh-" + std::to_string(::getpid()) + kExt[data[0] % 3];
+    // A directory of this process's own, empty but for the input: a glTF's relative `uri` then names
+    // nothing (the loader reads external files only beside the glTF file), whatever else is in /tmp.
+    static const std::string dir = [] {
+        char name[] = "/tmp/rgvc-fuzz-mesh-XXXXXX";
+        if (::mkdtemp(name) == nullptr) bug("mkdtemp failed");
+        return std::string(name);
+    }();
+    const std::string path = dir + "/input" + kExt[data[0] % 3];
     {
         std::ofstream f(path, std::ios::binary | std::ios::trunc);
         f.write(reinterpret_cast<const char*>(data + 1), std::streamsize(size - 1));
