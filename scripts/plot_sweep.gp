@@ -1,6 +1,6 @@
 # rgvc_sweep's plot: time against overestimation, one panel per scene, the Pareto front marked.
 #
-#   gnuplot -e "csv='rgvc_sweep.csv'; out='docs/sweep.png'" scripts/plot_sweep.gp
+#   gnuplot -e "csv='rgvc_sweep.csv'; out='scenes/figures/sweep.png'" scripts/plot_sweep.gp
 #   (rgvc_sweep --plot FILE.png runs this after writing its CSV)
 #
 # Columns of the CSV (rgvc_sweep, apps/bench/SweepReport.cpp): 1 scene, 3 setting, 5 approximate,
