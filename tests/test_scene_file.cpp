@@ -557,7 +557,7 @@ TEST_CASE("motion: objects starting outside the grid come back and are never stu
     CHECK((t4 == Vec2(0, 0) || t4 == Vec2(-1, 0)));
 }
 
-TEST_CASE("motion: static and zero-velocity objects never move; speed is |velocity| every frame", "[scene]") {
+TEST_CASE("motion: static and zero-velocity objects never move, speed is |velocity| every frame", "[scene]") {
     std::mt19937 rng(12345);
     std::uniform_real_distribution<double> pos(-5, 15), vel(-3, 3), rad(0.2, 4);
     json objects = json::array();
@@ -855,7 +855,7 @@ std::string readFile(const std::string& path) {
 
 } // namespace
 
-TEST_CASE("mesh objects: OBJ, glTF and GLB cubes placed by scale, rotation, translation; hulls as occludees", "[scene][mesh]") {
+TEST_CASE("mesh objects: OBJ, glTF and GLB cubes placed by scale, rotation, translation, hulls as occludees", "[scene][mesh]") {
     SECTION("OBJ: scale 2, 90 degrees about z, translation (5, 5, 5); role occluder still becomes occludee") {
         json o = meshObject("cube.obj");
         o["scale"] = 2;
