@@ -235,7 +235,7 @@ double OcclusionBuffer3D::nearestDistance(const Shape<3>& shape, double grow) co
     return std::sqrt(lengthSquared<3>(nearest - m_apex));
 }
 
-bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distance) {
+bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distance, bool refine) {
     if (!m_active) return false;
     ++m_stats.tested;
     Vec3 lo, hi; // the shape's bounding box grown, relative to the apex
@@ -276,6 +276,7 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
         ++m_stats.hidden;
         return true;
     }
+    if (!refine) return false;
     // Refinement: the test compares every pixel with the shape's single nearest distance, and a
     // rectangle is larger than the image of a sphere or of a box seen at an angle, so an object just
     // behind a wall fails on pixels at the edge of its rectangle (where the wall is crossed farther out

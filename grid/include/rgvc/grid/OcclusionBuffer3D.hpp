@@ -95,7 +95,15 @@ public:
     /// the view is visible past the occluders drawn so far.
     bool hidden(const Shape<3>& shape, double grow) { return hidden(shape, grow, nearestDistance(shape, grow)); }
     /// As above, with nearest = nearestDistance(shape, grow) already known (the front-to-back sort key).
-    bool hidden(const Shape<3>& shape, double grow, double nearest);
+    /// @param refine  whether a shape whose one footprint fails is split into parts tested one by one
+    ///                (two levels of 8, see OcclusionBuffer3D.cpp): false for callers that test finer
+    ///                boxes themselves when a coarse one fails (clearHiddenVoxels), which would pay for
+    ///                the parts twice.
+    bool hidden(const Shape<3>& shape, double grow, double nearest, bool refine = true);
+    /// The one-footprint test of a box, without the refinement (see refine above).
+    bool hiddenCoarse(const Box<3>& box, double grow) {
+        return hidden(Shape<3>(box), grow, nearestDistance(Shape<3>(box), grow), false);
+    }
 
     /// Draws the shape shrunk by `shrink` [voxel units, >= 0] as an occluder (nothing when the shrunk
     /// shape is empty or holds the camera).

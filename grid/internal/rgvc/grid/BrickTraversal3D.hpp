@@ -37,6 +37,7 @@
 #include "rgvc/grid/ViewFrustum.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -87,7 +88,13 @@ public:
                     ++st.nodesOutside;
                     return true;
                 }
-                if (image != nullptr && image->hidden(Box<3>{loF, hiF}, grow)) {
+                // A node above the bricks is tested with its one footprint: when that fails, the walk
+                // tests its children, which are the parts hidden()'s refinement would have split it into
+                // (the halves, each with its own nearest distance), so refining here would pay twice. A
+                // brick's refinement has no such stand-in: its voxels are read when it is not hidden.
+                const bool brick = hi.x - lo.x <= BrickPyramid<3>::kBrickSize && hi.y - lo.y <= BrickPyramid<3>::kBrickSize &&
+                                   hi.z - lo.z <= BrickPyramid<3>::kBrickSize;
+                if (image != nullptr && (brick ? image->hidden(Box<3>{loF, hiF}, grow) : image->hiddenCoarse(Box<3>{loF, hiF}, grow))) {
                     ++st.nodesHidden;
                     return true;
                 }
@@ -107,7 +114,17 @@ private:
                     const IVec3& brick, const IVec3& lo, const IVec3& hi, std::uint32_t stamp, bool tbvHere,
                     OnVoxel& onVoxel, OnTbvs& onTbvs, InsideObject& insideObject, BrickTraversalStats3D& st) {
         ++st.bricksVisited;
-        const bool hasFar = !std::isinf(frustum.far());
+        // The far limit needs a test per voxel only in the bricks it cuts: a brick whose farthest corner is
+        // within it keeps every voxel (withinFar tests a voxel's nearest point, which is no farther).
+        bool hasFar = !std::isinf(frustum.far());
+        if (hasFar) {
+            double far2 = 0;
+            for (int a = 0; a < 3; ++a) {
+                const double d = std::max(std::abs(double(lo[a]) - frustum.apex()[a]), std::abs(double(hi[a]) - frustum.apex()[a]));
+                far2 += d * d;
+            }
+            hasFar = !(far2 <= frustum.far() * frustum.far());
+        }
         bool anyIds = false;
         // Pass 1: per row, which voxels hold ids, and the span inside the frustum; opaque voxels in view
         // start fused occluders (drawFusedBox) before any id of the brick is classified, so that a wall
@@ -150,14 +167,26 @@ private:
         for (int i = 0; i < rows; ++i) {
             const RowInfo& r = m_rows[std::size_t(i)];
             std::uint32_t inView = 0; // bit x - lo.x: visited
-            for (std::int32_t x = r.u0; x <= r.u1; ++x) {
-                const IVec3 v{x, r.y, r.z};
-                if (hasFar && !frustum.withinFar(Vec3(v), Vec3(v) + 1.0)) continue;
-                const VoxelKey key(r.key + std::uint32_t(x));
-                storage.setVisited(key, stamp);
-                ++st.voxelsVisited;
-                inView |= 1u << (x - lo.x);
-                if (((r.ids >> (x - lo.x)) & 1) != 0) onVoxel(key, v);
+            if (!hasFar) {
+                // The whole span is visited: its mask at once, the ids' voxels by their bits.
+                if (r.u0 > r.u1) continue;
+                for (std::int32_t x = r.u0; x <= r.u1; ++x) storage.setVisited(VoxelKey(r.key + std::uint32_t(x)), stamp);
+                st.voxelsVisited += std::uint64_t(r.u1 - r.u0 + 1);
+                inView = ((2u << (r.u1 - r.u0)) - 1u) << (r.u0 - lo.x);
+                for (std::uint32_t bits = r.ids & inView; bits != 0; bits &= bits - 1) {
+                    const std::int32_t x = lo.x + std::countr_zero(bits);
+                    onVoxel(VoxelKey(r.key + std::uint32_t(x)), IVec3{x, r.y, r.z});
+                }
+            } else {
+                for (std::int32_t x = r.u0; x <= r.u1; ++x) {
+                    const IVec3 v{x, r.y, r.z};
+                    if (!frustum.withinFar(Vec3(v), Vec3(v) + 1.0)) continue;
+                    const VoxelKey key(r.key + std::uint32_t(x));
+                    storage.setVisited(key, stamp);
+                    ++st.voxelsVisited;
+                    inView |= 1u << (x - lo.x);
+                    if (((r.ids >> (x - lo.x)) & 1) != 0) onVoxel(key, v);
+                }
             }
             visible[r.z - lo.z] |= std::uint64_t(inView) << (8 * (r.y - lo.y));
         }
