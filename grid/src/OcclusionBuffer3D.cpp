@@ -62,7 +62,7 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::pixelsOf(double x0, double x1, d
     // pixel boundary in both neighbours despite rounding.
     auto index = [](double v, double half, double size, double bias) {
         const double f = (v + half) / size + bias;
-        return f < -1.0 ? -1.0 : (f > 1e7 ? 1e7 : std::floor(f));
+        return f < -1.0 ? -1.0 : (f > 1e7 ? 1e7 : double(floorToInt(f)));
     };
     // Bounds computed from overflowing coordinates (inf - inf) are NaN: nothing is known, so the whole
     // image (found by fuzz_culler3d).
@@ -138,12 +138,16 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
     double px[20], py[20];
     int n = 0;
     auto add = [&](const Vec3& p, double z) {
-        px[n] = glm::dot(p, m_right) / z;
-        py[n] = glm::dot(p, m_up) / z;
+        const double inv = 1.0 / z; // one division (the bounds are padded by 1e-7 relative below)
+        px[n] = glm::dot(p, m_right) * inv;
+        py[n] = glm::dot(p, m_up) * inv;
         ++n;
     };
+    bool allFront = true;
+    for (int k = 0; k < 8; ++k) allFront = allFront && zc[k] >= zMin;
     for (int k = 0; k < 8; ++k) {
         if (zc[k] >= zMin) add(q[k], zc[k]);
+        if (allFront) continue; // no edge crosses the plane
         for (int a = 0; a < 3; ++a) { // the edge from corner k to the corner differing in bit a
             const int m = k ^ (1 << a);
             if (m < k || (zc[k] >= zMin) == (zc[m] >= zMin)) continue;
@@ -221,8 +225,8 @@ bool OcclusionBuffer3D::rowSpan(const Footprint& f, int j, int& i0, int& i1) con
     // spheres: an overflowing column emptied the row, and the sphere was reported hidden).
     const double f0 = (x0 - f.padX + m_halfW) / m_pixelW - 1e-6, f1 = (x1 + f.padX + m_halfW) / m_pixelW + 1e-6;
     if (!(f0 < double(i1) + 1) || !(f1 >= double(i0))) return false;
-    i0 = std::max(i0, int(std::floor(std::max(f0, double(i0)))));
-    i1 = std::min(i1, int(std::floor(std::min(f1, double(i1)))));
+    i0 = std::max(i0, floorToInt(std::max(f0, double(i0)))); // in [i0, i1]: f0 < i1 + 1 above
+    i1 = std::min(i1, floorToInt(std::min(f1, double(i1)))); // in [i0, i1]: f1 >= i0 above
     return i0 <= i1;
 }
 

@@ -54,6 +54,13 @@ template <int D> inline Vec<D> safeNormalize(const Vec<D>& v) {
     return s / std::sqrt(lengthSquared<D>(s));
 }
 
+/// floor(x) as an int. [Limit] finite, |x| < 2^31. std::floor is a library call on x86-64 without SSE4.1
+/// (the project builds for the baseline ISA), and the occlusion image rounds every footprint's bounds.
+inline int floorToInt(double x) {
+    const int t = int(x); // truncation toward zero
+    return t - int(double(t) > x);
+}
+
 /// 2D cross product (z component of the 3D cross product).
 inline double cross2(const Vec2& a, const Vec2& b) { return a.x * b.y - a.y * b.x; }
 inline std::int64_t cross2(const IVec2& a, const IVec2& b) {
