@@ -619,7 +619,7 @@ TEST_CASE("parseScene rejects bad numbers, sizes, ranges and ids with their fiel
     CHECK(sceneFieldOf("[]") == "(root)");
 }
 
-TEST_CASE("a 2D scene over 2^20 voxels per axis parses; Culler2D rejects its grid", "[errors]") {
+TEST_CASE("a 2D scene over 2^20 voxels per axis parses, Culler2D rejects its grid", "[errors]") {
     // The file format allows it (3D grids may be that wide); the 2D culler's limit names the field.
     const Scene s = parseScene(mutated("\"resolution\": [32, 32]", "\"resolution\": [1048577, 2]"), "api.json");
     const SceneData2* d = s.as<2>();

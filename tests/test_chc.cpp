@@ -155,7 +155,7 @@ TEST_CASE("CHC: a camera inside a room of boxes sees the walls only, without que
     }
 }
 
-TEST_CASE("CHC++: a batched query of a node whose box holds the eye would be wrong; the node is visible", "[chc]") {
+TEST_CASE("CHC++: a batched query of a node whose box holds the eye would be wrong, the node is visible", "[chc]") {
     // The eye lies in leaf L = {Y, Q} (Y in front, Q behind the eye). A query of L's box counts its far
     // faces only (z = 4), which the wall Z (z = 3.5, drawn at once as previously visible) hides, although
     // Y's front (z = 3) is in front of Z. CHC++ batches L's query until after Z is drawn, so without the
@@ -378,7 +378,7 @@ TEST_CASE("queryMinCandidates: a small candidate set is drawn with VFC, no queri
     }
 }
 
-TEST_CASE("n_vp > 0 is flagged approximate; ZB and VFC never are", "[chc]") {
+TEST_CASE("n_vp > 0 is flagged approximate, ZB and VFC never are", "[chc]") {
     const ChcScene s = boxCity(4, 6, 100);
     FakeQueryDevice device;
     ObjectBvh bvh;
@@ -431,7 +431,7 @@ TEST_CASE("t_av: assumed-visible leaves are not queried, and CHC++'s first inter
     CHECK(plusAllQueried == 0);
 }
 
-TEST_CASE("CHC++: multiqueries cut the queries, tight bounds send more, smaller boxes; runs are deterministic", "[chc]") {
+TEST_CASE("CHC++: multiqueries cut the queries, tight bounds send more, smaller boxes, runs are deterministic", "[chc]") {
     const ChcScene s = boxCity(1);
     struct Totals {
         std::uint64_t queries = 0, multi = 0, inMulti = 0, boxes = 0, drawn = 0;

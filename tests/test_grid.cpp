@@ -585,7 +585,7 @@ TEST_CASE("makeConvexHull and makeOrientedBox: bad input is a clear InvalidInput
     fails([&] { validateShape<3>(s, "obj"); }, "obj.points", "finite");
 }
 
-TEST_CASE("oriented boxes: corners, planes, bounds; erosion moves every plane in exactly", "[grid][polytope]") {
+TEST_CASE("oriented boxes: corners, planes, bounds, erosion moves every plane in exactly", "[grid][polytope]") {
     const double s2 = std::sqrt(0.5);
     // 90 degrees about z: x -> y, y -> -x.
     const ConvexPolytope p = makeOrientedBox({1, 2, 3}, {1, 2, 3}, {0, 0, s2, s2}, "o");

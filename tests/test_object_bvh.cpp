@@ -47,7 +47,7 @@ TEST_CASE("ObjectBvh: a build bounds every object exactly, leaves hold at most m
     CHECK(checkBvh(empty).empty());
 }
 
-TEST_CASE("ObjectBvh: refit keeps node ids and contains moved objects; insert and remove keep other ids", "[chc][bvh]") {
+TEST_CASE("ObjectBvh: refit keeps node ids and contains moved objects, insert and remove keep other ids", "[chc][bvh]") {
     std::mt19937_64 rng(77);
     std::vector<BvhItem> items;
     for (int i = 0; i < 300; ++i) items.push_back({ObjectId(i + 1), randomBox(rng, 50)});

@@ -338,7 +338,7 @@ TEST_CASE("sim2d generators: fixed seeds, the asked number of movers, bad specs 
     CHECK_THROWS_AS(parseGeneratorSpec("city:12x"), InvalidInput);
 }
 
-TEST_CASE("rgvc_sim2d command line: headless PNG frames; bad flags, scripts and scenes exit 2 with one line", "[sim]") {
+TEST_CASE("rgvc_sim2d command line: headless PNG frames, bad flags, scripts and scenes exit 2 with one line", "[sim]") {
     const fs::path out = tempDir() / "frames";
     const std::string script = writeTemp("walk.txt", kWalkScript);
     const Run ok = runSim2d("--generate city:200 --headless --frames 6 --png-every 3 --size 128 --script " + quote(script) +
