@@ -703,6 +703,31 @@ TEST_CASE("rgvc demo on 3D scenes: a top view and the camera's view, with no pix
 }
 
 #ifdef RGVC_HAS_GL
+namespace {
+
+// Checks `rgvc cull --gl` lines (checkLines'd, `frames` of them) against item buffers made here: per frame
+// t, the scene `data` at that frame (the motion rule's placements) drawn with every object into a w x h
+// item buffer from the frame's camera; perFrame(t, line, img) adds a test's own checks, then every object
+// the buffer shows must be in the line's pvs (the contract: pvs contains every object showing a pixel).
+template <class PerFrame>
+void checkItemBufferInPvs(rgvc::SceneRenderer& renderer, const rgvc::SceneData3& data, const std::vector<json>& lines,
+                          std::size_t frames, int w, int h, PerFrame&& perFrame) {
+    rgvc::SceneSimulator3 sim(data);
+    for (std::size_t t = 0; t < frames; ++t) {
+        if (t > 0) sim.step();
+        for (std::size_t i = 0; i < sim.size(); ++i) renderer.setObject(sim.idAt(i), sim.shapeAt(i));
+        const rgvc::ItemBufferImage img = rgvc::itemBuffer(renderer, data.cameraAt(t), w, h);
+        const std::vector<rgvc::ObjectId> pvs = lines[t]["pvs"].get<std::vector<rgvc::ObjectId>>();
+        perFrame(t, lines[t], img);
+        for (rgvc::ObjectId id : img.visible) {
+            INFO("frame " << t << ", object " << id << " shows in the item buffer");
+            CHECK(std::binary_search(pvs.begin(), pvs.end(), id));
+        }
+    }
+}
+
+} // namespace
+
 TEST_CASE("cull --gl: an occludee (glass) hides nothing in the GL stage either", "[cli][gl]") {
     // A pane of glass fills the view in front of a sphere: the CPU keeps the sphere (an occludee hides
     // nothing); the GL stage must not let the pane's depth hide it, and keeps the pane.
@@ -746,14 +771,9 @@ TEST_CASE("cull --gl: the GL stage's pvs holds every object the item buffer of a
         REQUIRE(r.status == 0);
         const std::vector<json> lines = r.lines();
         checkLines(lines, frames);
-        rgvc::SceneSimulator3 sim(data);
         std::size_t shrunk = 0;
-        for (std::size_t t = 0; t < frames; ++t) {
-            if (t > 0) sim.step();
-            for (std::size_t i = 0; i < sim.size(); ++i) renderer.setObject(sim.idAt(i), sim.shapeAt(i));
-            const rgvc::ItemBufferImage img = rgvc::itemBuffer(renderer, data.cameraAt(t), w, h);
-            const std::vector<rgvc::ObjectId> pvs = lines[t]["pvs"].get<std::vector<rgvc::ObjectId>>();
-            const json& st = lines[t]["stats"];
+        checkItemBufferInPvs(renderer, data, lines, frames, w, h, [&](std::size_t, const json& line, const rgvc::ItemBufferImage& img) {
+            const json& st = line["stats"];
             CHECK(st["gl_method"] == method);
             CHECK(st["gl_size"] == "96x64");
             CHECK(st["gl_approximate"] == false);
@@ -764,11 +784,7 @@ TEST_CASE("cull --gl: the GL stage's pvs holds every object the item buffer of a
             CHECK(st["pvs_size"].get<std::size_t>() <= st["cpu_pvs_size"].get<std::size_t>());
             shrunk += st["cpu_pvs_size"].get<std::size_t>() - st["pvs_size"].get<std::size_t>();
             REQUIRE_FALSE(img.visible.empty());
-            for (rgvc::ObjectId id : img.visible) {
-                INFO("frame " << t << ", object " << id << " shows in the item buffer");
-                CHECK(std::binary_search(pvs.begin(), pvs.end(), id));
-            }
-        }
+        });
         CHECK(shrunk > 0); // the queries culled something the grid kept
     }
     // n_vp above 0 is labelled approximate; t_av is accepted.
@@ -795,19 +811,9 @@ TEST_CASE("cull --gl on obbs and hulls: every object the item buffer shows is in
     REQUIRE(r.status == 0);
     const std::vector<json> lines = r.lines();
     checkLines(lines, frames);
-    rgvc::SceneSimulator3 sim(data);
     std::size_t shown = 0;
-    for (std::size_t t = 0; t < frames; ++t) {
-        if (t > 0) sim.step();
-        for (std::size_t i = 0; i < sim.size(); ++i) renderer.setObject(sim.idAt(i), sim.shapeAt(i));
-        const rgvc::ItemBufferImage img = rgvc::itemBuffer(renderer, data.cameraAt(t), w, h);
-        const std::vector<rgvc::ObjectId> pvs = lines[t]["pvs"].get<std::vector<rgvc::ObjectId>>();
-        shown += img.visible.size();
-        for (rgvc::ObjectId id : img.visible) {
-            INFO("frame " << t << ", object " << id << " shows in the item buffer");
-            CHECK(std::binary_search(pvs.begin(), pvs.end(), id));
-        }
-    }
+    checkItemBufferInPvs(renderer, data, lines, frames, w, h,
+                         [&](std::size_t, const json&, const rgvc::ItemBufferImage& img) { shown += img.visible.size(); });
     CHECK(shown > 0);
 }
 #endif
