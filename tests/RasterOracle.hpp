@@ -305,29 +305,40 @@ template <int D> struct Emitted {
     }
 };
 
-/// Checks one 2D shape (voxel units) on a grid of resolution res. Returns "" or the first failure.
-inline std::string checkShape2(const Shape<2>& s, const Ref2& ref, IVec2 res, bool selfCheckOracle, Stats& st,
-                        bool checkOutside = true) {
-    Emitted<2> inner(res), touched(res);
-    forEachInnerVoxel<2>(s, res, [&](const IVec2& v) { inner(v); });
-    forEachTouchedVoxel<2>(s, res, [&](const IVec2& v) { touched(v); });
+/// Runs the rasterizer on `s` (grid of resolution res) into inner and touched, and counts the shape into
+/// st. Returns "" or the first failure: an emission error (Emitted), or extendsOutsideGrid disagreeing with
+/// the oracle's ref.outsideGrid(res) where checkOutside.
+template <int D, class Ref>
+std::string rasterizeAndCount(const Shape<D>& s, const Ref& ref, IVec<D> res, bool checkOutside, Stats& st, Emitted<D>& inner,
+                              Emitted<D>& touched) {
+    forEachInnerVoxel<D>(s, res, [&](const IVec<D>& v) { inner(v); });
+    forEachTouchedVoxel<D>(s, res, [&](const IVec<D>& v) { touched(v); });
     if (!inner.error.empty()) return "inner: " + inner.error;
     if (!touched.error.empty()) return "touched: " + touched.error;
     ++st.shapes;
     st.inner += inner.count;
     st.touched += touched.count;
-
-    bool out = extendsOutsideGrid<2>(s, res);
+    const bool out = extendsOutsideGrid<D>(s, res);
     if (out) ++st.outside;
-    if (checkOutside && out != ref.outsideGrid(res))
-        return std::string("extendsOutsideGrid returned ") + (out ? "true" : "false");
+    if (checkOutside && out != ref.outsideGrid(res)) return std::string("extendsOutsideGrid returned ") + (out ? "true" : "false");
+    return "";
+}
 
-    auto fail = [](const char* what, int x, int y, L a, L b) {
-        std::ostringstream o;
-        o << std::setprecision(17) << what << " at voxel (" << x << ", " << y << "), touchDist=" << (double)a
-          << " innerMargin=" << (double)b;
-        return o.str();
-    };
+/// A voxel's failure: "<what> at voxel (x, y[, z]), touchDist=<td> innerMargin=<im>", 17 digits.
+template <int D> std::string voxelFailure(const char* what, const IVec<D>& v, L td, L im) {
+    std::ostringstream o;
+    o << std::setprecision(17) << what << " at voxel (" << v[0];
+    for (int a = 1; a < D; ++a) o << ", " << v[a];
+    o << "), touchDist=" << (double)td << " innerMargin=" << (double)im;
+    return o.str();
+}
+
+/// Checks one 2D shape (voxel units) on a grid of resolution res. Returns "" or the first failure.
+inline std::string checkShape2(const Shape<2>& s, const Ref2& ref, IVec2 res, bool selfCheckOracle, Stats& st,
+                        bool checkOutside = true) {
+    Emitted<2> inner(res), touched(res);
+    if (std::string e = rasterizeAndCount<2>(s, ref, res, checkOutside, st, inner, touched); !e.empty()) return e;
+    auto fail = [](const char* what, int x, int y, L a, L b) { return voxelFailure<2>(what, IVec2(x, y), a, b); };
     for (int y = 0; y < res.y; ++y)
         for (int x = 0; x < res.x; ++x) {
             ++st.voxels;
@@ -639,22 +650,8 @@ inline Ref3 refOf(const Shape<3>& s) {
 inline std::string checkShape3(const Shape<3>& s, IVec3 res, Stats& st) {
     const Ref3 ref = refOf(s);
     Emitted<3> inner(res), touched(res);
-    forEachInnerVoxel<3>(s, res, [&](const IVec3& v) { inner(v); });
-    forEachTouchedVoxel<3>(s, res, [&](const IVec3& v) { touched(v); });
-    if (!inner.error.empty()) return "inner: " + inner.error;
-    if (!touched.error.empty()) return "touched: " + touched.error;
-    ++st.shapes;
-    st.inner += inner.count;
-    st.touched += touched.count;
-    bool out = extendsOutsideGrid<3>(s, res);
-    if (out) ++st.outside;
-    if (out != ref.outsideGrid(res)) return std::string("extendsOutsideGrid returned ") + (out ? "true" : "false");
-    auto fail = [](const char* what, const IVec3& v, L a, L b) {
-        std::ostringstream o;
-        o << std::setprecision(17) << what << " at voxel (" << v.x << ", " << v.y << ", " << v.z
-          << "), touchDist=" << (double)a << " innerMargin=" << (double)b;
-        return o.str();
-    };
+    if (std::string e = rasterizeAndCount<3>(s, ref, res, true, st, inner, touched); !e.empty()) return e;
+    auto* const fail = &voxelFailure<3>;
     for (int z = 0; z < res.z; ++z)
         for (int y = 0; y < res.y; ++y)
             for (int x = 0; x < res.x; ++x) {
@@ -807,22 +804,8 @@ inline std::string checkPolytope3(const Shape<3>& s, const std::vector<Vec3>& po
     const RefPoly ref(points);
     if (ref.planes.size() < 4) return "oracle: fewer than 4 facets";
     Emitted<3> inner(res), touched(res);
-    forEachInnerVoxel<3>(s, res, [&](const IVec3& v) { inner(v); });
-    forEachTouchedVoxel<3>(s, res, [&](const IVec3& v) { touched(v); });
-    if (!inner.error.empty()) return "inner: " + inner.error;
-    if (!touched.error.empty()) return "touched: " + touched.error;
-    ++st.shapes;
-    st.inner += inner.count;
-    st.touched += touched.count;
-    const bool out = extendsOutsideGrid<3>(s, res);
-    if (out) ++st.outside;
-    if (out != ref.outsideGrid(res)) return std::string("extendsOutsideGrid returned ") + (out ? "true" : "false");
-    auto fail = [](const char* what, const IVec3& v, L a, L b) {
-        std::ostringstream o;
-        o << std::setprecision(17) << what << " at voxel (" << v.x << ", " << v.y << ", " << v.z
-          << "), touchDist=" << (double)a << " innerMargin=" << (double)b;
-        return o.str();
-    };
+    if (std::string e = rasterizeAndCount<3>(s, ref, res, true, st, inner, touched); !e.empty()) return e;
+    auto* const fail = &voxelFailure<3>;
     for (int z = 0; z < res.z; ++z)
         for (int y = 0; y < res.y; ++y)
             for (int x = 0; x < res.x; ++x) {
