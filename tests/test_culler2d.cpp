@@ -174,8 +174,7 @@ TEST_CASE("culler2d: updateObject and removeObject keep the PVS conservative", "
     for (std::uint64_t seed = 500001; seed < 500151; ++seed) {
         ref::Scene2D s = ref::randomScene2D(seed);
         std::mt19937_64 rng(seed * 31 + 7);
-        Culler2D culler(s.grid);
-        for (const ObjectDesc<2>& o : s.objects) culler.addObject(o);
+        Culler2D culler = makeCuller(s.grid, s.objects);
         std::vector<ObjectDesc<2>> objects = s.objects;
         ObjectId nextId = 1000000;
         checkFrame(culler, objects, s.camera, "update, seed " + std::to_string(seed) + ", frame 0", tally);

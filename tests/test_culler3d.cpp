@@ -65,6 +65,15 @@ Tally runRandomScenes(const std::string& name, std::uint64_t firstSeed, int scen
     return tally;
 }
 
+// `opt` on small crowded grids: 8 to 16 voxels a side and at least 30 objects, so that most cameras see
+// occlusion (the "crowded" runs).
+ref::SceneOptions3D crowded(ref::SceneOptions3D opt) {
+    opt.minResolution = 8;
+    opt.maxResolution = 16;
+    opt.minObjects = 30;
+    return opt;
+}
+
 // One hand-made scene on `grid`; ids are 1, 2, ... in order.
 Tally checkHandScene(const std::string& name, const std::vector<Shape<3>>& shapes, const Camera3& cam,
                      const GridGeometry3& grid = GridGeometry3({0, 0, 0}, 1.0, {32, 32, 32})) {
@@ -455,10 +464,7 @@ TEST_CASE("culler3d: no misses with every coordinate on voxel faces and corners"
 }
 
 TEST_CASE("culler3d: no misses on small crowded grids", "[culler3d]") {
-    ref::SceneOptions3D opt;
-    opt.minResolution = 8;
-    opt.maxResolution = 16;
-    opt.minObjects = 30;
+    ref::SceneOptions3D opt = crowded(ref::SceneOptions3D{});
     opt.maxObjects = 80;
     Tally t = runRandomScenes("small crowded", 200001, 120, 3, opt);
     REQUIRE(t.framesWithOcclusion > 0);
@@ -478,11 +484,7 @@ TEST_CASE("culler3d: no misses without occluder extension (layer-by-layer caps)"
     CullerOptions o;
     o.occluderExtension = false;
     Tally t = runRandomScenes("no occluder extension", 400001, 100, 2, ref::SceneOptions3D{}, o);
-    ref::SceneOptions3D crowded;
-    crowded.minResolution = 8;
-    crowded.maxResolution = 16;
-    crowded.minObjects = 30;
-    Tally t2 = runRandomScenes("no occluder extension, crowded", 410001, 60, 2, crowded, o);
+    Tally t2 = runRandomScenes("no occluder extension, crowded", 410001, 60, 2, crowded(ref::SceneOptions3D{}), o);
     REQUIRE(t.misses == 0);
     REQUIRE(t2.misses == 0);
 }
@@ -500,8 +502,7 @@ TEST_CASE("culler3d: updateObject and removeObject keep the PVS conservative", "
         }
         ref::Scene3D s = ref::randomScene3D(seed, opt);
         std::mt19937_64 rng(seed * 31 + 7);
-        Culler3D culler(s.grid);
-        for (const ObjectDesc<3>& o : s.objects) culler.addObject(o);
+        Culler3D culler = makeCuller(s.grid, s.objects);
         std::vector<ObjectDesc<3>> objects = s.objects;
         ObjectId nextId = 1000000;
         checkFrame(culler, objects, s.camera, "update, seed " + std::to_string(seed) + ", frame 0", tally);
@@ -769,12 +770,9 @@ TEST_CASE("culler3d: no misses on random scenes with oriented boxes and hulls", 
     snapped.snapProbability = 1.0; // axis-aligned obbs on voxel faces next to boxes, lattice hulls
     Tally t2 = runRandomScenes("polytopes, snapped", 710001, 80, 3, snapped);
     REQUIRE(t2.misses == 0);
-    ref::SceneOptions3D crowded = opt;
-    crowded.minResolution = 8;
-    crowded.maxResolution = 16;
-    crowded.minObjects = 30;
-    crowded.polytopeProbability = 0.7;
-    Tally t3 = runRandomScenes("polytopes, crowded", 720001, 80, 3, crowded);
+    ref::SceneOptions3D crowdedOpt = crowded(opt);
+    crowdedOpt.polytopeProbability = 0.7;
+    Tally t3 = runRandomScenes("polytopes, crowded", 720001, 80, 3, crowdedOpt);
     REQUIRE(t3.framesWithOcclusion > 0);
     REQUIRE(t3.misses == 0);
 }
@@ -791,8 +789,7 @@ TEST_CASE("culler3d: moving oriented boxes and hulls keep the PVS conservative",
         opt.minObjects = 10;
         ref::Scene3D s = ref::randomScene3D(seed, opt);
         std::mt19937_64 rng(seed * 17 + 3);
-        Culler3D culler(s.grid);
-        for (const ObjectDesc<3>& o : s.objects) culler.addObject(o);
+        Culler3D culler = makeCuller(s.grid, s.objects);
         std::vector<ObjectDesc<3>> objects = s.objects;
         for (int frame = 0; frame < 5; ++frame) {
             if (frame > 0)
