@@ -856,64 +856,31 @@ int main(int argc, char** argv) {
                 "(hierarchical), old = hierarchical off, vfc = occlusion off (its |PVS| is |VFC|); 2D new (bricks), rings (hierarchical off), vfc\n");
     std::printf("times: CullStats::cullMs (wall, placement queries included); voxels/nodes/empty/hidden/bricks/|PVS|: "
                 "means per frame\n\nscenes:\n");
+    // Each scene is built only when wanted (the large ones take seconds and GiBs to set up), then run.
+    auto run = [&](const char* name, auto&& make) {
+        if (!wanted(name)) return;
+        auto w = make();
+        runScene(w, cfg);
+    };
     try {
-        if (wanted("room-1k")) {
-            auto w = roomScene("room-1k", 1000);
-            runScene(w, cfg);
-        }
-        if (wanted("room-10k")) {
-            auto w = roomScene("room-10k", 10000);
-            runScene(w, cfg);
-        }
-        if (wanted("room-100k")) {
-            auto w = roomScene("room-100k", 100000);
-            runScene(w, cfg);
-        }
-        if (wanted("clusters")) {
-            auto w = clustersScene(q ? 500 : 5000);
-            runScene(w, cfg);
-        }
-        if (wanted("game")) {
-            auto w = gameScene(q ? 20 : 50, q ? 200 : 2000);
-            runScene(w, cfg);
-        }
-        if (wanted("large")) {
-            auto w = largeScene(q ? 50 : 500);
-            runScene(w, cfg);
-        }
-        if (wanted("empty")) {
+        run("room-1k", [&] { return roomScene("room-1k", 1000); });
+        run("room-10k", [&] { return roomScene("room-10k", 10000); });
+        run("room-100k", [&] { return roomScene("room-100k", 100000); });
+        run("clusters", [&] { return clustersScene(q ? 500 : 5000); });
+        run("game", [&] { return gameScene(q ? 20 : 50, q ? 200 : 2000); });
+        run("large", [&] { return largeScene(q ? 50 : 500); });
+        run("empty", [&] {
             auto w = emptyScene(q ? 256 : 512); // 512^3: 13 s and 5 GiB to set up three cullers
             if (q) w.maxFrames = 2;
-            runScene(w, cfg);
-        }
-        if (wanted("city3d")) {
-            auto w = city3dScene(q ? 30 : 300);
-            runScene(w, cfg);
-        }
-        if (wanted("paper")) {
-            auto w = paperScene(q ? 500 : 5000);
-            runScene(w, cfg);
-        }
-        if (wanted("city2d")) {
-            auto w = city2dScene(q ? 30 : 200);
-            runScene(w, cfg);
-        }
-        if (wanted("random2d")) {
-            auto w = random2dScene(q ? 100 : 300);
-            runScene(w, cfg);
-        }
-        if (wanted("room2d")) {
-            auto w = room2dScene(q ? 100 : 1000);
-            runScene(w, cfg);
-        }
-        if (wanted("large2d")) {
-            auto w = large2dScene(q ? 50 : 500);
-            runScene(w, cfg);
-        }
-        if (wanted("empty2d")) {
-            auto w = large2dScene(0, "empty2d");
-            runScene(w, cfg);
-        }
+            return w;
+        });
+        run("city3d", [&] { return city3dScene(q ? 30 : 300); });
+        run("paper", [&] { return paperScene(q ? 500 : 5000); });
+        run("city2d", [&] { return city2dScene(q ? 30 : 200); });
+        run("random2d", [&] { return random2dScene(q ? 100 : 300); });
+        run("room2d", [&] { return room2dScene(q ? 100 : 1000); });
+        run("large2d", [&] { return large2dScene(q ? 50 : 500); });
+        run("empty2d", [&] { return large2dScene(0, "empty2d"); });
     } catch (const std::exception& e) {
         if (g_progress) std::fprintf(stderr, "\n");
         std::fprintf(stderr, "rgvc_bench_classes: %s\n", e.what());
