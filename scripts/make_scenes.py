@@ -45,6 +45,16 @@ def far_from(points, x, y, clearance):
     return all(math.hypot(x - px, y - py) >= clearance for px, py in points)
 
 
+def clear_spot(rng, size, clear, margin):
+    """A point drawn uniformly in [margin, size - margin]^2 (x first), drawn again until it is margin + 3
+    from every point of `clear` (the camera's path): where open2d and open3d place an object of that
+    margin."""
+    while True:
+        x, y = rng.uniform(margin, size - margin), rng.uniform(margin, size - margin)
+        if far_from(clear, x, y, margin + 3):
+            return x, y
+
+
 def scatter(rng, size, counts, keep_clear, clearance, max_speed):
     """Objects spread uniformly over a size x size grid: moving circles, static boxes and static
     polygons, none starting within `clearance` of the points in keep_clear (camera positions)."""
@@ -447,10 +457,7 @@ def open2d():
     objects = []
 
     def spot(margin):
-        while True:
-            x, y = rng.uniform(margin, 512 - margin), rng.uniform(margin, 512 - margin)
-            if far_from(clear, x, y, margin + 3):
-                return x, y
+        return clear_spot(rng, 512, clear, margin)
     for _ in range(40):
         r = rng.uniform(1, 3)
         x, y = spot(r)
@@ -491,10 +498,7 @@ def open3d():
     objects = [{"id": 0, "shape": "box", "min": [0, 0, 0], "max": [256, 1, 256], "static": True}]
 
     def spot(margin):
-        while True:
-            x, z = rng.uniform(margin, 256 - margin), rng.uniform(margin, 256 - margin)
-            if far_from(clear, x, z, margin + 3):
-                return x, z
+        return clear_spot(rng, 256, clear, margin)
     for _ in range(60):
         r = rng.uniform(1.5, 3.5)
         x, z = spot(r)
