@@ -13,17 +13,26 @@ SweepSetting with(std::string name, std::string factor, auto edit) {
     return s;
 }
 
+// The resolution factor's names: "voxel x0.5", "voxel x2", "voxel x4".
+std::string voxelName(double k) { return std::string("voxel x") + (k == 0.5 ? "0.5" : k == 2.0 ? "2" : "4"); }
+
 } // namespace
 
 std::vector<SweepSetting> sweepSettings(int dims, bool quick) {
     std::vector<SweepSetting> v;
     auto add = [&](std::string name, std::string factor, auto edit) { v.push_back(with(std::move(name), std::move(factor), edit)); };
+    // A combination "voxel x<k> + <what>": the voxel size scaled by k, then edit's change.
+    auto addVoxelCombo = [&](double k, const std::string& what, auto edit) {
+        add(voxelName(k) + " + " + what, "combo", [k, edit](SweepSetting& s) {
+            s.voxelScale = k;
+            edit(s);
+        });
+    };
     const bool three = dims == 3;
     add("base", "base", [](SweepSetting&) {});
     for (double k : {0.5, 2.0, 4.0}) {
         if (quick && k != 2.0) continue;
-        add(std::string("voxel x") + (k == 0.5 ? "0.5" : k == 2.0 ? "2" : "4"), "resolution",
-            [k](SweepSetting& s) { s.voxelScale = k; });
+        add(voxelName(k), "resolution", [k](SweepSetting& s) { s.voxelScale = k; });
     }
     add("extension off", "extension", [](SweepSetting& s) { s.options.occluderExtension = false; });
     if (three) {
@@ -81,36 +90,15 @@ std::vector<SweepSetting> sweepSettings(int dims, bool quick) {
             s.options.traversalImageRows = 128;
             s.options.occlusionBufferRows = 256;
         });
-        add("voxel x2 + buffer 256 rows", "combo", [](SweepSetting& s) {
-            s.voxelScale = 2;
-            s.options.occlusionBufferRows = 256;
-        });
-        add("voxel x0.5 + gl chcpp", "combo", [](SweepSetting& s) {
-            s.voxelScale = 0.5;
-            s.glMethod = "chcpp";
-        });
-        add("voxel x2 + gl chcpp", "combo", [](SweepSetting& s) {
-            s.voxelScale = 2;
-            s.glMethod = "chcpp";
-        });
+        addVoxelCombo(2, "buffer 256 rows", [](SweepSetting& s) { s.options.occlusionBufferRows = 256; });
+        addVoxelCombo(0.5, "gl chcpp", [](SweepSetting& s) { s.glMethod = "chcpp"; });
+        addVoxelCombo(2, "gl chcpp", [](SweepSetting& s) { s.glMethod = "chcpp"; });
     } else {
-        add("voxel x2 + extension off", "combo", [](SweepSetting& s) {
-            s.voxelScale = 2;
-            s.options.occluderExtension = false;
-        });
-        add("voxel x0.5 + buffer 64 bins", "combo", [](SweepSetting& s) {
-            s.voxelScale = 0.5;
-            s.options.occlusionBufferBins = 64;
-        });
-        add("voxel x2 + buffer off", "combo", [](SweepSetting& s) {
-            s.voxelScale = 2;
-            s.options.occlusionBufferBins = 0;
-        });
+        addVoxelCombo(2, "extension off", [](SweepSetting& s) { s.options.occluderExtension = false; });
+        addVoxelCombo(0.5, "buffer 64 bins", [](SweepSetting& s) { s.options.occlusionBufferBins = 64; });
+        addVoxelCombo(2, "buffer off", [](SweepSetting& s) { s.options.occlusionBufferBins = 0; });
     }
-    add("voxel x2 + tbv off", "combo", [](SweepSetting& s) {
-        s.voxelScale = 2;
-        s.options.temporalBoundingVolumes = false;
-    });
+    addVoxelCombo(2, "tbv off", [](SweepSetting& s) { s.options.temporalBoundingVolumes = false; });
     return v;
 }
 
