@@ -57,16 +57,26 @@ struct Reference {
     bool cameraInsideObject = false;
 };
 
+/// The shapes touching the view region (inView[i]) and their positions in the scene's `shapes`: what the
+/// reference is run on (see the top), and where its answers go back to.
+template <int D> struct InView {
+    std::vector<Shape<D>> shapes;
+    std::vector<std::size_t> index;
+};
+template <int D> InView<D> inViewOnly(const std::vector<Shape<D>>& shapes, const std::vector<bool>& inView) {
+    InView<D> in;
+    for (std::size_t i = 0; i < shapes.size(); ++i)
+        if (inView[i]) {
+            in.shapes.push_back(shapes[i]);
+            in.index.push_back(i);
+        }
+    return in;
+}
+
 inline Reference referenceOf(const std::vector<ObjectDesc<3>>& objects, const Camera3& cam) {
     const std::vector<Shape<3>> shapes = reference::shapesOf(objects);
     const std::vector<bool> inView = reference::inViewRegion3D(shapes, cam);
-    std::vector<Shape<3>> sub;
-    std::vector<std::size_t> index;
-    for (std::size_t i = 0; i < shapes.size(); ++i)
-        if (inView[i]) {
-            sub.push_back(shapes[i]);
-            index.push_back(i);
-        }
+    const auto [sub, index] = inViewOnly<3>(shapes, inView);
     reference::Visibility3DOptions opt;
     opt.gridDivisions = kReferenceGridDivisions;
     opt.targetDivisions = kReferenceTargetDivisions;
@@ -92,13 +102,7 @@ inline Reference referenceOf(const std::vector<ObjectDesc<2>>& objects, const Ca
     // The wedge is convex for fov <= 180 only; wider views get every object.
     const std::vector<bool> inView =
         cam.fovDeg <= 180 ? reference::inViewRegion2D(shapes, cam) : std::vector<bool>(shapes.size(), true);
-    std::vector<Shape<2>> sub;
-    std::vector<std::size_t> index;
-    for (std::size_t i = 0; i < shapes.size(); ++i)
-        if (inView[i]) {
-            sub.push_back(shapes[i]);
-            index.push_back(i);
-        }
+    const auto [sub, index] = inViewOnly<2>(shapes, inView);
     const std::vector<bool> vis = reference::exactVisible2D(sub, cam, opt);
     for (std::size_t k = 0; k < sub.size(); ++k) {
         r.visible[index[k]] = vis[k];
