@@ -47,7 +47,8 @@ Hit rayBall(const Ball<3>& b, const Vec3& o, const Vec3& u) {
     return {along - s, along + s};
 }
 
-/// Slab test against half-spaces n . x <= h (a box is six of them).
+/// Slab test against half-spaces n . x <= h (a box is six of them): `planes` holds elements that bind as
+/// [n, h] (std::pair<Vec3, double>, HalfSpace).
 template <class Planes> Hit rayPlanes(const Planes& planes, const Vec3& o, const Vec3& u) {
     double lo = -kInf, hi = kInf;
     for (const auto& [n, h] : planes) {
@@ -76,10 +77,9 @@ Hit rayShape(const Shape<3>& shape, const Vec3& o, const Vec3& u) {
                     {{0, -1, 0}, -s.min.y}, {{0, 0, 1}, s.max.z}, {{0, 0, -1}, -s.min.z}};
                 return rayPlanes(planes, o, u);
             } else if constexpr (std::is_same_v<T, ConvexPolytope>) {
-                std::vector<std::pair<Vec3, double>> planes;
-                planes.reserve(s.planes.size());
-                for (const HalfSpace& p : s.planes) planes.push_back({p.normal, p.offset});
-                return rayPlanes(planes, o, u);
+                // The polytope's own planes (HalfSpace {normal, offset} binds as [n, h]): nothing is copied
+                // or allocated per pixel and object.
+                return rayPlanes(s.planes, o, u);
             } else {
                 static_assert(sizeof(T) == 0, "rgvc demo: a 3D shape without a ray test");
             }
