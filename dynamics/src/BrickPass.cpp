@@ -68,72 +68,52 @@ void Culler<D>::Impl::classify(ViewScratch<S>& vs, ObjectSlot slot, const View& 
 template <int D> void Culler<D>::Impl::classify(ObjectSlot slot) { classify(main, slot, *main.view); }
 
 /// Clears from `held` (a brick's voxels as slice words: bit x + 8 y of slice z) the voxels the image
-/// hides, testing coarse boxes first: the bounding box of all of them, then of each slice's, then each
-/// row's run, then its voxels one by one. A box hidden as a whole hides every voxel in it; a test that
-/// fails only sends its voxels to the finer level, so the result is the same set as per-voxel tests
-/// would give up to the refinement depth of hidden(), and sound either way (a voxel left in `held` is
-/// only revealed, never lost). Returns whether any voxel is left.
-/// Why the coarse levels: behind a closed wall most held voxels are hidden together (the room's 1k
-/// movers: half of the bricks' held sets hidden by the first test, 97% of rows), and each test costs a
-/// footprint (about a thousand instructions); in the clusters few are, and the extra tests per brick
-/// are one and a few.
+/// hides, coarse to fine along the brick's octree: the bounding box of the held voxels of the brick,
+/// then of each held octant of 4^3, of 2^3, and last each voxel. A box hidden as a whole hides every
+/// voxel in it; a failed test sends its voxels to the next level. The coarse levels skip hidden()'s
+/// own refinement into parts (the next level is that refinement, along the voxels); single voxels keep
+/// it. Sound whatever the outcome: a voxel left in `held` is only revealed, never lost. Returns whether
+/// any voxel is left.
+/// Why: behind a closed wall the held voxels of a brick are hidden together (the room's movers: half of
+/// the bricks' sets by the first test), and where a wall crosses a brick the octants on its far side
+/// are, so the tests follow the wall's area in the brick, not its volume. Each test costs a footprint
+/// (about a thousand instructions).
 static bool clearHiddenVoxels(OcclusionBuffer3D& image, const IVec3& brick, double slack, std::uint64_t held[8]) {
     const IVec3 o = brick * 8;
-    auto rowBits = [&](int y, int z) { return std::uint32_t(held[z] >> (8 * y)) & 0xFFu; };
-    // The bounding box of the held voxels of slices z0..z1 (x from the rows' bits, y from the rows met).
-    auto boundsOf = [&](int z0, int z1, IVec3& lo, IVec3& hi) {
-        lo = IVec3{8}, hi = IVec3{-1};
-        for (int z = z0; z <= z1; ++z)
-            for (int y = 0; y < 8; ++y) {
-                const std::uint32_t row = rowBits(y, z);
-                if (row == 0) continue;
-                lo = glm::min(lo, IVec3{std::countr_zero(row), y, z});
-                hi = glm::max(hi, IVec3{31 - std::countl_zero(row), y, z});
-            }
-        return hi.x >= 0;
+    // held restricted to the cube c .. c + size - 1 (brick-local), as slice words.
+    auto cubeMask = [](const IVec3& c, int size, int z) -> std::uint64_t {
+        if (z < c.z || z >= c.z + size) return 0;
+        const std::uint64_t row = ((std::uint64_t(1) << size) - 1) << c.x;
+        std::uint64_t m = 0;
+        for (int y = c.y; y < c.y + size; ++y) m |= row << (8 * y);
+        return m;
     };
-    // Inclusive brick-local voxel boxes. The coarse levels skip hidden()'s refinement into parts: the
-    // finer levels below are that refinement, along the voxels.
-    auto boxHidden = [&](const IVec3& lo, const IVec3& hi) {
-        return image.hiddenCoarse(Box<3>{Vec3(o + lo), Vec3(o + hi + 1)}, slack);
-    };
-    auto voxelHidden = [&](const IVec3& v) { return image.hidden(Box<3>{Vec3(o + v), Vec3(o + v + 1)}, slack); };
-    IVec3 lo, hi;
-    if (!boundsOf(0, 7, lo, hi)) return false;
-    if (boxHidden(lo, hi)) return false;
-    bool any = false;
-    const bool oneSlice = lo.z == hi.z;
-    for (int z = lo.z; z <= hi.z; ++z) {
-        if (held[z] == 0) continue;
-        IVec3 slo, shi;
-        boundsOf(z, z, slo, shi);
-        const bool oneRow = slo.y == shi.y;
-        if (!oneSlice && boxHidden(slo, shi)) { // (with one slice, the box above was this slice's)
-            held[z] = 0;
-            continue;
-        }
-        for (int y = slo.y; y <= shi.y; ++y) {
-            const std::uint32_t row = rowBits(y, z);
-            if (row == 0) continue;
-            const int first = std::countr_zero(row), last = 31 - std::countl_zero(row);
-            // The finest level is refined (hidden()'s parts); a slice of one row was just tested as this
-            // row's box.
-            std::uint32_t keep = row;
-            if (first == last) {
-                if (voxelHidden(IVec3{first, y, z})) keep = 0;
-            } else if (!oneRow && boxHidden(IVec3{first, y, z}, IVec3{last, y, z})) {
-                keep = 0;
-            } else {
-                for (std::uint32_t bits = row; bits != 0; bits &= bits - 1) {
-                    const int x = std::countr_zero(bits);
-                    if (voxelHidden(IVec3{x, y, z})) keep &= ~(1u << x);
-                }
+    auto visit = [&](auto& self, const IVec3& c, int size) -> void {
+        std::uint64_t m[8];
+        IVec3 lo{8}, hi{-1};
+        for (int z = c.z; z < c.z + size; ++z) {
+            m[z] = held[z] & cubeMask(c, size, z);
+            for (std::uint64_t bits = m[z]; bits != 0; bits &= bits - 1) {
+                const int b = std::countr_zero(bits);
+                lo = glm::min(lo, IVec3{b & 7, b >> 3, z});
+                hi = glm::max(hi, IVec3{b & 7, b >> 3, z});
             }
-            held[z] = (held[z] & ~(std::uint64_t(0xFF) << (8 * y))) | (std::uint64_t(keep) << (8 * y));
         }
-        any = any || held[z] != 0;
-    }
-    return any;
+        if (hi.x < 0) return; // none held here
+        const Box<3> box{Vec3(o + lo), Vec3(o + hi + 1)};
+        const bool one = lo == hi;
+        if (one || size == 1 ? image.hidden(box, slack) : image.hiddenCoarse(box, slack)) {
+            for (int z = c.z; z < c.z + size; ++z) held[z] &= ~m[z];
+            return;
+        }
+        if (one || size == 1) return;
+        const int h = size / 2;
+        for (int k = 0; k < 8; ++k) self(self, c + IVec3{(k & 1) * h, ((k >> 1) & 1) * h, ((k >> 2) & 1) * h}, h);
+    };
+    visit(visit, IVec3{0}, 8);
+    for (int z = 0; z < 8; ++z)
+        if (held[z] != 0) return true;
+    return false;
 }
 
 /// CullerOptions::hierarchical: the brick-tree walk (BrickTraversal3D.hpp) with the occlusion image.
