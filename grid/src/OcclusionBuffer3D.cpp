@@ -248,9 +248,18 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
     // The centre (of the ball, or of the box) is a point of the shape: when its own pixel is not covered
     // nearer than it, neither test below can succeed (both need that pixel below `nearest`, which is at
     // most the centre's distance). O(1) for the visible objects, which are most of what is tested.
+    // The same for the shape's point nearest to the camera, where a shape in view is most often seen
+    // (a ball's, or its bounding box's: the tests below are for that box).
     {
         const Box<3> b = boundsOf<3>(shape);
         if (!canHide(0.5 * (b.min + b.max) - m_apex)) return false;
+        if (const auto* ball = std::get_if<Ball<3>>(&shape)) {
+            const Vec3 c = ball->center - m_apex;
+            const double r = (ball->radius + grow) * (1 - 1e-6), len = std::sqrt(lengthSquared<3>(c));
+            if (len > r && !canHide(c * (1 - r / len))) return false;
+        } else if (!canHide(glm::clamp(Vec3(0.0), b.min - grow - m_apex, b.max + grow - m_apex))) {
+            return false;
+        }
     }
     Footprint f;
     bool inView;
@@ -292,6 +301,21 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
     // centre was checked first (above).
     const Vec3 centre = 0.5 * (lo + hi);
     const auto* ball = std::get_if<Ball<3>>(&shape);
+    // More such witnesses before the parts: the region's extreme points along the axes (a ball's six
+    // poles, a box's eight corners), each inside the region the parts cover (a ball's, shrunk by 1e-6 relative, since
+    // the parts skip what misses the ball). One pixel read each, against the refinement's up to 72
+    // footprints; on rgvc_bench_classes' clusters 98% of the refinements failed, most on such a point.
+    if (ball != nullptr) {
+        const double r = (ball->radius + grow) * (1 - 1e-6);
+        for (int a = 0; a < 3; ++a) {
+            Vec3 d(0.0);
+            d[a] = r;
+            if (!canHide(centre + d) || !canHide(centre - d)) return false;
+        }
+    } else {
+        for (int k = 0; k < 8; ++k)
+            if (!canHide(Vec3{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z})) return false;
+    }
     if (!hiddenParts(lo, hi, 2, ball != nullptr ? &centre : nullptr, ball != nullptr ? ball->radius + grow : 0.0)) return false;
     ++m_stats.hidden;
     return true;
