@@ -266,3 +266,228 @@ TEST_CASE("Raster: polytope fixed cases and row spans", "[raster]") {
         checkRows<3>(randomPolytope(g, r, pts), r, 0x9011ULL + i);
     }
 }
+
+// ---------------------------------------------------------------------------------------------------
+// Polytopes given by half-spaces (makePolytopeFromPlanes): the planes of a box, an obb or a random hull,
+// shuffled, scaled and mixed with redundant planes, give the same polytope back (the vertices within the
+// tolerances, the same O and I voxels), and bad input is refused naming the field.
+
+namespace {
+
+std::vector<IVec3> voxelSet(bool innerSet, const Shape<3>& s, IVec3 res) {
+    std::vector<IVec3> out;
+    auto fn = [&](const IVec3& v) { out.push_back(v); };
+    if (innerSet) forEachInnerVoxel<3>(s, res, fn);
+    else forEachTouchedVoxel<3>(s, res, fn);
+    return out;
+}
+
+double maxCoord(const ConvexPolytope& p) {
+    double m = 0;
+    for (const Vec3& v : p.vertices) m = std::max({m, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    return m;
+}
+
+/// Every vertex of a inside every plane of b moved out by tol.
+bool insideAll(const ConvexPolytope& a, const ConvexPolytope& b, double tol) {
+    for (const Vec3& v : a.vertices)
+        for (const HalfSpace& h : b.planes)
+            if (glm::dot(h.normal, v) > h.offset + tol) return false;
+    return true;
+}
+
+/// The largest distance from a vertex of a to the nearest vertex of b.
+double vertexGap(const ConvexPolytope& a, const ConvexPolytope& b) {
+    double worst = 0;
+    for (const Vec3& v : a.vertices) {
+        double best = std::numeric_limits<double>::infinity();
+        for (const Vec3& w : b.vertices) best = std::min(best, std::sqrt(lengthSquared<3>(v - w)));
+        worst = std::max(worst, best);
+    }
+    return worst;
+}
+
+std::string planesOf(const std::vector<HalfSpace>& hs) {
+    std::ostringstream o;
+    o << std::setprecision(17);
+    for (const HalfSpace& h : hs) o << "\n    (" << h.normal.x << ", " << h.normal.y << ", " << h.normal.z << ") . x <= " << h.offset;
+    return o.str();
+}
+
+} // namespace
+
+TEST_CASE("Polytope: the planes of boxes, obbs and hulls round-trip to the same polytope", "[raster][polytope]") {
+    const std::uint64_t seed = 0x91A4E5ULL;
+    int failures = 0, shapes = 0, redundant = 0, sameCount = 0;
+    std::size_t innerVoxels = 0, touchedVoxels = 0;
+    for (int i = 0; i < 600; ++i) {
+        Gen g(seed * 1000003ULL + std::uint64_t(i));
+        const IVec3 res(g.irange(1, 10), g.irange(1, 10), g.irange(1, 10));
+        ConvexPolytope p;
+        const int kind = i % 3;
+        if (kind == 0) { // an axis-aligned box as an obb with the identity rotation
+            Vec3 lo(0.0), hi(0.0);
+            for (int a = 0; a < 3; ++a) {
+                double u = g.coord(res[a]), w = g.coord(res[a]);
+                if (u == w) w += 0.5;
+                lo[a] = std::min(u, w), hi[a] = std::max(u, w);
+            }
+            p = makeOrientedBox(0.5 * (lo + hi), 0.5 * (hi - lo), {0, 0, 0, 1}, "box");
+        } else {
+            std::vector<Vec3> points;
+            Shape<3> s = randomPolytope(g, res, points);
+            p = std::get<ConvexPolytope>(s);
+        }
+        std::vector<HalfSpace> hs = p.planes;
+        // Redundant planes (moved out, or touching only a vertex), non-unit normals, a shuffled order.
+        const int extra = g.irange(0, 3);
+        for (int k = 0; k < extra; ++k) {
+            HalfSpace r = hs[std::size_t(g.irange(0, int(hs.size()) - 1))];
+            r.offset += g.uni(0.01, 2);
+            hs.push_back(r);
+            ++redundant;
+        }
+        if (g.chance(0.3)) {
+            const Vec3 dir = safeNormalize<3>(Vec3(g.uni(-1, 1), g.uni(-1, 1), g.uni(-1, 1)) + Vec3(1e-3));
+            double support = -std::numeric_limits<double>::infinity();
+            for (const Vec3& v : p.vertices) support = std::max(support, glm::dot(dir, v));
+            hs.push_back({dir, support + 1e-3});
+            ++redundant;
+        }
+        for (HalfSpace& h : hs)
+            if (g.chance(0.3)) {
+                const double s = g.logUni(1e-3, 1e3);
+                h.normal *= s;
+                h.offset *= s;
+            }
+        for (std::size_t k = hs.size(); k > 1; --k) std::swap(hs[k - 1], hs[std::size_t(g.irange(0, int(k) - 1))]);
+
+        std::string err;
+        try {
+            const ConvexPolytope q = makePolytopeFromPlanes(hs, "planes");
+            Shape<3> sq = q;
+            validateShape<3>(sq, "planes");
+            const double tol = p.tolerance + q.tolerance + 1e-12 * (1 + std::max(maxCoord(p), 1.0));
+            // The same point set: q's vertices are p's (p may also keep points on an edge or a facet, which
+            // a hull of lattice points can: q has only the true corners), and each lies in the other.
+            if (q.vertices.size() > p.vertices.size()) err = "more vertices than the hull: " + std::to_string(q.vertices.size());
+            else if (vertexGap(q, p) > tol) err = "a vertex from the planes is no vertex of the hull";
+            else if (!insideAll(p, q, tol) || !insideAll(q, p, tol)) err = "a vertex of one lies outside the other";
+            else if (q.planes.size() > p.planes.size()) err = "more planes than the hull";
+            else if (voxelSet(true, p, res) != voxelSet(true, q, res)) err = "O (inner voxels) differ";
+            else if (voxelSet(false, p, res) != voxelSet(false, q, res)) err = "I (touched voxels) differ";
+            if (!(q.tolerance <= 1e-9 * (1 + maxCoord(p)))) err = "tolerance " + std::to_string(q.tolerance) + " is not a rounding error";
+            if (q.vertices.size() == p.vertices.size() && q.planes.size() == p.planes.size()) ++sameCount;
+            innerVoxels += voxelSet(true, q, res).size();
+            touchedVoxels += voxelSet(false, q, res).size();
+        } catch (const InvalidInput& e) {
+            err = std::string("refused: ") + e.what();
+        }
+        ++shapes;
+        if (!err.empty() && failures++ < 5)
+            FAIL_CHECK("planes seed=" << seed << " shape #" << i << ": " << err << "\n  " << describe(Shape<3>(p)) << "\n  planes:" << planesOf(hs));
+    }
+    CHECK(failures == 0);
+    CHECK(shapes == 600);
+    CHECK(redundant > 300);
+    CHECK(sameCount > 500); // the same vertex and facet counts but for hulls that keep points on edges
+    CHECK(innerVoxels > 1000);
+    CHECK(touchedVoxels > innerVoxels);
+}
+
+TEST_CASE("Polytope: a tetrahedron, a pyramid apex of many planes and a frustum from planes", "[raster][polytope]") {
+    // The unit-corner tetrahedron x, y, z >= 0, x + y + z <= 1 (the last normal not unit).
+    const std::vector<HalfSpace> tet = {{{-1, 0, 0}, 0}, {{0, -1, 0}, 0}, {{0, 0, -1}, 0}, {{1, 1, 1}, 1}};
+    const ConvexPolytope t = makePolytopeFromPlanes(tet, "tet");
+    CHECK(t.vertices.size() == 4);
+    CHECK(t.planes.size() == 4);
+    for (const HalfSpace& h : t.planes) CHECK(std::abs(lengthSquared<3>(h.normal) - 1) < 1e-12);
+    // A pyramid over a regular 12-gon: 12 planes through the apex (0, 0, 2) and the base z >= 0.
+    std::vector<HalfSpace> pyr = {{{0, 0, -1}, 0}};
+    for (int k = 0; k < 12; ++k) {
+        const double a = 2 * 3.14159265358979323846 * k / 12;
+        const Vec3 n = safeNormalize<3>(Vec3(2 * std::cos(a), 2 * std::sin(a), 1));
+        pyr.push_back({n, glm::dot(n, Vec3(0, 0, 2))});
+    }
+    const ConvexPolytope py = makePolytopeFromPlanes(pyr, "pyramid");
+    CHECK(py.vertices.size() == 13); // the apex once, however many triples meet there
+    CHECK(py.planes.size() == 13);
+    double top = 0;
+    for (const Vec3& v : py.vertices) top = std::max(top, v.z);
+    CHECK(std::abs(top - 2) < 1e-12);
+    // A view frustum's 6 planes (near 1, far 10, 90 degrees): 8 corners; O holds voxels near the far end.
+    std::vector<HalfSpace> fr = {{{0, 0, -1}, -1}, {{0, 0, 1}, 10}};
+    for (int s : {-1, 1}) {
+        fr.push_back({{double(s), 0, -1}, 0});
+        fr.push_back({{0, double(s), -1}, 0});
+    }
+    const ConvexPolytope f = makePolytopeFromPlanes(fr, "frustum");
+    CHECK(f.vertices.size() == 8);
+    CHECK(f.planes.size() == 6);
+    const ConvexPolytope moved = translatedPolytope(f, Vec3(10, 10, 0));
+    CHECK(voxelSet(true, moved, IVec3(20, 20, 12)).size() > 300);
+    // kMaxPolytopePlanes tangent planes of a ball of radius 3 at (1e6, 1e6, 1e6) (far from the origin, so
+    // rounding is relative to 1e6): a polytope around the ball, inside the ball grown by 3%.
+    Gen g(0x7A46E7ULL);
+    std::vector<HalfSpace> ball;
+    const Vec3 c(1e6);
+    while (ball.size() < kMaxPolytopePlanes) {
+        const Vec3 n = safeNormalize<3>(Vec3(g.uni(-1, 1), g.uni(-1, 1), g.uni(-1, 1)) + Vec3(1e-9));
+        ball.push_back({n, glm::dot(n, c) + 3});
+    }
+    const ConvexPolytope b = makePolytopeFromPlanes(ball, "ball");
+    Shape<3> sb = b;
+    validateShape<3>(sb, "ball");
+    CHECK(b.planes.size() == kMaxPolytopePlanes); // every tangent plane is a facet
+    CHECK(b.tolerance < 1e-6);
+    for (const Vec3& v : b.vertices) {
+        const double r = std::sqrt(lengthSquared<3>(v - c));
+        CHECK(r >= 3 - 1e-6);
+        CHECK(r < 3.5);
+    }
+}
+
+TEST_CASE("Polytope: bad half-spaces are refused naming the field", "[raster][polytope][errors]") {
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    std::vector<HalfSpace> cube;
+    for (int a = 0; a < 3; ++a)
+        for (int s : {-1, 1}) {
+            Vec3 n(0.0);
+            n[a] = s;
+            cube.push_back({n, 1});
+        }
+    REQUIRE(makePolytopeFromPlanes(cube, "cube").vertices.size() == 8);
+    auto refused = [](std::vector<HalfSpace> hs, const std::string& field, const std::string& words) {
+        try {
+            makePolytopeFromPlanes(hs, "brush");
+        } catch (const InvalidInput& e) {
+            CHECK(e.field() == field);
+            CHECK_THAT(e.what(), Catch::Contains(words));
+            return;
+        }
+        FAIL("accepted: " << field << " / " << words);
+    };
+    auto with = [&](std::size_t i, HalfSpace h) {
+        auto c = cube;
+        c[i] = h;
+        return c;
+    };
+    refused({cube.begin(), cube.begin() + 3}, "brush", "at least 4");
+    refused(std::vector<HalfSpace>(kMaxPolytopePlanes + 1, cube[0]), "brush", "at most");
+    refused(with(2, {{nan, 0, 1}, 1}), "brush[2].normal", "finite");
+    refused(with(3, {{0, inf, 0}, 1}), "brush[3].normal", "finite");
+    refused(with(4, {{0, 0, 0}, 1}), "brush[4].normal", "non-zero");
+    refused(with(5, {{0, 0, 1}, nan}), "brush[5].offset", "finite");
+    refused(with(0, {{1e-300, 0, 0}, 1e300}), "brush[0].offset", "out of range");
+    // Unbounded: a half-open slab (one side missing), a prism (no z planes), a cone opening upwards.
+    refused({cube.begin(), cube.begin() + 5}, "brush", "unbounded");
+    refused({cube[0], cube[1], cube[2], cube[3]}, "brush", "unbounded");
+    refused({{{1, 0, -1}, 0}, {{-1, 0, -1}, 0}, {{0, 1, -1}, 0}, {{0, -1, -1}, 0}}, "brush", "unbounded");
+    // Empty: x <= -2 next to x >= -1.
+    refused(with(1, {{1, 0, 0}, -2}), "brush", "empty");
+    // No volume: x >= 1 next to x <= 1, and a sliver 1e-12 thick.
+    refused(with(0, {{-1, 0, 0}, -1}), "brush", "no volume");
+    refused(with(0, {{-1, 0, 0}, -1 + 1e-12}), "brush", "no volume");
+    // Every refusal leaves nothing behind: the cube still builds.
+    CHECK(makePolytopeFromPlanes(cube, "cube").planes.size() == 6);
+}

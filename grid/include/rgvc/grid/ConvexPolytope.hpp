@@ -1,4 +1,6 @@
-// Convex polytopes in 3D: convex hulls of points and oriented boxes (scene-format.md's `hull` and `obb`).
+// Convex polytopes in 3D: convex hulls of points and oriented boxes (scene-format.md's `hull` and `obb`),
+// and bounded intersections of half-spaces (a library-only constructor: the scene format gives hulls by
+// points only).
 //
 // One representation for both, so that every stage that visits shapes (rasterization into O and I, the
 // occlusion images, the GL stage) has one more alternative to handle, not two: an oriented box is the
@@ -32,8 +34,8 @@ struct HalfSpace {
     double offset = 0;
 };
 
-/// A closed convex polytope with non-empty interior (3D only). Build it with makeConvexHull or
-/// makeOrientedBox; a polytope assembled by hand must pass validateShape (Shapes.hpp).
+/// A closed convex polytope with non-empty interior (3D only). Build it with makeConvexHull,
+/// makePolytopeFromPlanes or makeOrientedBox; a polytope assembled by hand must pass validateShape (Shapes.hpp).
 /// [Units] world or voxel, as the context says (like the other shapes).
 struct ConvexPolytope {
     std::vector<Vec3> vertices;                         ///< the hull's vertices
@@ -55,6 +57,22 @@ inline constexpr std::size_t kMaxHullPoints = 20000;
 /// @throws InvalidInput naming the field: fewer than 4 points, more than kMaxHullPoints, NaN/inf, all
 ///         points (within 1e-9 of their extent) on one plane or line, or coordinates whose products overflow.
 ConvexPolytope makeConvexHull(std::span<const Vec3> points, const std::string& field);
+
+/// [Limit] the most half-spaces makePolytopeFromPlanes accepts (its cost is O(planes^3) solves).
+inline constexpr std::size_t kMaxPolytopePlanes = 256;
+
+/// The convex polytope {x : planes[i].normal . x <= planes[i].offset for every i}: a bounded intersection
+/// of closed half-spaces, in the same representation makeConvexHull produces (its planes are the facets;
+/// input planes that touch the polytope in less than a facet, or not at all, are dropped). The vertices
+/// are enumerated from plane triples (see PolytopeFromPlanes.cpp for the method and why it is
+/// hand-written); `tolerance` covers their rounding. Normals need not be unit: (normal, offset) is scaled
+/// by 1 / |normal|. [Limit] 4 to kMaxPolytopePlanes planes. [Units] world or voxel (any consistent unit).
+/// @param field  the field path for errors, e.g. "brush.planes" (errors name field + "[3].normal", ...).
+/// @throws InvalidInput naming the field: too few or too many planes; a NaN/inf or zero normal, a
+///         NaN/inf offset; an unbounded intersection (the normals do not surround the origin within
+///         1e-9); an empty one; one without volume (flat within 1e-9 of its extent); vertices that cannot
+///         be computed robustly (nearly parallel planes meeting in one point).
+ConvexPolytope makePolytopeFromPlanes(std::span<const HalfSpace> planes, const std::string& field);
 
 /// The box centre + R (s0 h0, s1 h1, s2 h2), s_i in [-1, 1], R the rotation of the quaternion
 /// (x, y, z, w) (glTF's order, scene-format.md's `obb`).
