@@ -7,7 +7,7 @@
 
 #include "rgvc/dynamics/TbbExecutor.hpp"
 
-#include "OrthoVisibility.hpp"
+#include "OrthoTestSupport.hpp"
 
 #include <atomic>
 #include <thread>
@@ -39,17 +39,6 @@ template <int D> std::vector<Camera<D>> randomCameras(std::mt19937_64& rng, cons
         else cams.push_back(ref::randomCamera3D(rng, grid, objects, snapped));
     }
     return cams;
-}
-
-/// Visible objects (by the reference) that `pvs` misses; objects' ids are their indices' ids.
-template <int D> int missesOf(const std::vector<ObjectDesc<D>>& objects, const Camera<D>& cam, const std::vector<ObjectId>& pvs) {
-    std::vector<Shape<D>> shapes;
-    for (const ObjectDesc<D>& o : objects) shapes.push_back(o.shape);
-    const std::vector<bool> vis = referenceVisible<D>(shapes, cam);
-    int misses = 0;
-    for (std::size_t i = 0; i < objects.size(); ++i)
-        if (vis[i] && !contains(pvs, objects[i].id)) ++misses;
-    return misses;
 }
 
 /// Static random scenes, four cameras each: conservative, executor-independent, equal to single culls.
@@ -243,62 +232,11 @@ TEST_CASE("views: errors", "[views]") {
 }
 
 // ---------------------------------------------------------------------------------------------------
-// Orthographic cameras: view-volume culling, exact and conservative (no occlusion for parallel rays).
+// Orthographic cameras: 2D view-volume culling, exact; 3D the parallel-ray occlusion (test_ortho has its
+// own cases), both conservative.
 
 namespace {
 
-template <int D> Camera<D> randomOrtho(std::mt19937_64& rng, const GridGeometry<D>& grid) {
-    std::uniform_real_distribution<double> u(0, 1);
-    const Vec<D> size = Vec<D>(grid.resolution()) * grid.voxelSize();
-    Camera<D> c;
-    c.projection = Projection::Orthographic;
-    for (int a = 0; a < D; ++a) c.position[a] = grid.origin()[a] + size[a] * (1.4 * u(rng) - 0.2);
-    const double kind = u(rng);
-    if (kind < 0.3) { // along an axis (3D: often straight down, the shadow-cascade / top view)
-        c.direction = Vec<D>(0.0);
-        c.direction[int(rng() % D)] = u(rng) < 0.5 ? -1 : 1;
-        if (D == 3 && u(rng) < 0.5) c.direction = Vec<D>(0.0), c.direction[1] = -1;
-    } else {
-        for (int a = 0; a < D; ++a) c.direction[a] = 2 * u(rng) - 1;
-        if (lengthSquared<D>(c.direction) < 1e-6) c.direction[0] = 1;
-    }
-    c.width = size[0] * (0.03 + 0.8 * u(rng));
-    c.height = size[D - 1] * (0.03 + 0.8 * u(rng));
-    if (u(rng) < 0.3) c.far = size[0] * (0.1 + u(rng));
-    return c;
-}
-
-/// Objects whose bounding box lies strictly outside one face plane of the view box (an independent,
-/// sufficient test of missing it) must not be reported; the reference's visible ones must be.
-template <int D> void checkOrtho(const std::vector<ObjectDesc<D>>& objects, const Camera<D>& cam, const std::vector<ObjectId>& pvs,
-                                 int& misses, int& mustCull, int& wrongKeeps) {
-    std::vector<Shape<D>> shapes;
-    for (const ObjectDesc<D>& o : objects) shapes.push_back(o.shape);
-    const std::vector<bool> vis = ref::orthoVisible<D>(shapes, cam);
-    const ref::ortho_detail::Frame<D> frame(cam);
-    for (std::size_t i = 0; i < objects.size(); ++i) {
-        if (vis[i] && !contains(pvs, objects[i].id)) ++misses;
-        const Box<D> b = boundsOf<D>(objects[i].shape);
-        bool outside = false;
-        for (int k = 0; k < D && !outside; ++k) {
-            double lo = INFINITY, hi = -INFINITY;
-            for (int c = 0; c < (1 << D); ++c) {
-                Vec<D> p;
-                for (int a = 0; a < D; ++a) p[a] = (c >> a) & 1 ? b.max[a] : b.min[a];
-                const double v = glm::dot(p - frame.o, frame.axis[k]);
-                lo = std::min(lo, v);
-                hi = std::max(hi, v);
-            }
-            const double margin = 1e-6 * (1 + std::abs(lo) + std::abs(hi));
-            if (k == 0) outside = hi < -margin || lo > frame.depth + margin;
-            else outside = hi < -frame.half[k] - margin || lo > frame.half[k] + margin;
-        }
-        if (outside) {
-            ++mustCull;
-            wrongKeeps += contains(pvs, objects[i].id);
-        }
-    }
-}
 
 template <int D, class MakeScene> void orthoScenes(const char* name, int scenes, MakeScene&& makeScene) {
     int misses = 0, mustCull = 0, wrongKeeps = 0, views = 0, differ = 0;
@@ -318,7 +256,7 @@ template <int D, class MakeScene> void orthoScenes(const char* name, int scenes,
         for (int v = 0; v < 3; ++v) {
             INFO(name << " seed " << seed << " view " << v);
             const CullResult& one = single.cull(cams[std::size_t(v)]);
-            CHECK(one.stats.fallback == Fallback::Orthographic);
+            CHECK(one.stats.fallback == (D == 3 ? Fallback::OrthographicOcclusion : Fallback::Orthographic));
             differ += one.pvs != r.views[std::size_t(v)].pvs;
             const int before = misses + wrongKeeps;
             checkOrtho<D>(scene.objects, cams[std::size_t(v)], one.pvs, misses, mustCull, wrongKeeps);
@@ -405,7 +343,7 @@ TEST_CASE("views: orthographic camera validation", "[views][ortho]") {
     c.fovDeg = 0;    // not read by an orthographic camera
     c.aspect = -1;   // nor this
     CHECK(culler.cull(c).pvs == std::vector<ObjectId>{1});
-    CHECK(culler.lastResult().stats.fallback == Fallback::Orthographic);
+    CHECK(culler.lastResult().stats.fallback == Fallback::OrthographicOcclusion);
     c.position.x = 11.5; // the box's edge is 1.5 + 2 = 3.5 voxels from the centre: the ball (radius 1) misses
     CHECK(culler.cull(c).pvs.empty());
     Camera3 bad = c;

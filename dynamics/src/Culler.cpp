@@ -24,6 +24,7 @@ const char* toString(Fallback f) {
     case Fallback::None: return "none";
     case Fallback::CameraOutsideGrid: return "camera_outside_grid";
     case Fallback::Orthographic: return "orthographic";
+    case Fallback::OrthographicOcclusion: return "orthographic-occlusion";
     }
     return "unknown";
 }
@@ -84,7 +85,7 @@ template <int D> const CullResult& Culler<D>::Impl::cull(const Camera<D>& camera
     const IVec<D> cameraVoxel = glm::clamp(GridGeometry<D>::voxelOfLocal(view.apex()), IVec<D>(0), grid.resolution() - 1);
     updateScene(cameraIn, std::span<const IVec<D>>(&cameraVoxel, cameraIn ? 1 : 0), st);
     st.updateMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (ortho) orthoView(main, volume);
+    if (ortho) orthoPass(main, volume);
     else cullView(main, view, cameraIn);
     havePrevCamera = cameraIn;
     prevCameras.assign(1, cameraVoxel);

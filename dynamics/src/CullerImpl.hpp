@@ -22,7 +22,9 @@
 #include "rgvc/grid/BrickTraversal2D.hpp"
 #include "rgvc/grid/BrickTraversal3D.hpp"
 #include "rgvc/grid/OcclusionBuffer3D.hpp"
+#include "rgvc/grid/OrthoOcclusionImage.hpp"
 #include "rgvc/grid/OrthoVolume.hpp"
+#include "rgvc/grid/BrickWalk.hpp"
 #include "rgvc/grid/RowFootprint.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
 
@@ -161,6 +163,11 @@ template <int D> struct Culler<D>::Impl {
         std::vector<ObjectSlot> met; // kShared: hidden objects whose TBV this view met, in the order met
         const typename Traits::View* view = nullptr; // while the pass runs
         std::exception_ptr failure;  // kShared: what the pass threw (bad_alloc), rethrown after all views
+        // Orthographic 3D views with occlusion (OrthoPass.cpp): the parallel-ray image, the objects met,
+        // the walk's stack.
+        OrthoOcclusionImage orthoImage;
+        std::vector<ObjectSlot> orthoMet;
+        std::vector<BrickNode<D>> orthoStack;
         CullResult result;
     };
     using MainScratch = ViewScratch<DenseStorage<D>>;
@@ -272,6 +279,14 @@ template <int D> struct Culler<D>::Impl {
     void testEveryObject(ViewScratch<S>& vs, TouchesTbv&& touchesTbv, TouchesObject&& touchesObject, CullStats& st);
     /// An orthographic view's pass (OrthoVolume.hpp): view-volume culling, exact, no occlusion.
     template <class S> void orthoView(ViewScratch<S>& vs, const OrthoVolume<D>& volume);
+    /// An orthographic 3D view's pass with occlusion (OrthoPass.cpp; CullerOptions::orthographicOcclusion).
+    template <class S> void orthoOcclusionView(ViewScratch<S>& vs, const OrthoVolume<D>& volume) requires(D == 3);
+    /// Either of the two above, as the options say.
+    template <class S> void orthoPass(ViewScratch<S>& vs, const OrthoVolume<D>& volume) {
+        if constexpr (D == 3)
+            if (options.occlusion && options.orthographicOcclusion) return orthoOcclusionView(vs, volume);
+        orthoView(vs, volume);
+    }
     const CullResult& cull(const Camera<D>& camera, const PlacementQuery<D>* placementOf);
     const MultiCullResult& cullViews(std::span<const Camera<D>> cameras, const PlacementQuery<D>* placementOf,
                                      TaskExecutor* executor);

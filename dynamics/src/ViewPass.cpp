@@ -200,7 +200,7 @@ const MultiCullResult& Culler<D>::Impl::cullViews(std::span<const Camera<D>> cam
         SharedScratch& vs = *views[i];
         const auto p0 = std::chrono::steady_clock::now();
         try {
-            if (ortho[i]) orthoView(vs, volumes[i]);
+            if (ortho[i]) orthoPass(vs, volumes[i]);
             else cullView(vs, regions[i], inside[i] != 0);
         } catch (...) { // bad_alloc growing a buffer: reported after all views
             vs.failure = std::current_exception();

@@ -6,7 +6,8 @@
 // meets the interior of no other object (the contract's definition with the ray from the camera point
 // replaced by the ray parallel to f; objects are convex, so a first hit lies on the boundary, and the
 // samples are boundary points). Sampled: a Fibonacci sphere / circle of points for balls, a grid of
-// points on each face or edge for boxes and polygons, dense enough for the random scenes' objects
+// points on each face or edge for boxes and polygons, and for polytopes (oriented boxes, hulls) their
+// vertices, points along their edges and a grid on each boundary triangle, dense enough for the random scenes' objects
 // (fractions of a voxel to tens of voxels). World units, like the other references.
 #pragma once
 
@@ -107,8 +108,23 @@ template <int D> bool segmentMeetsInterior(const Vec<D>& a, const Vec<D>& b, con
                     else t1 = std::min(t1, u);
                 }
                 return t0 < t1;
+            } else if constexpr (std::is_same_v<T, ConvexPolytope>) {
+                // The open segment against the open polytope (planes moved in by tol): the slab test over
+                // every facet plane.
+                double t0 = 0, t1 = 1;
+                for (const HalfSpace& h : x.planes) {
+                    const double fa = glm::dot(h.normal, a) - (h.offset - tol), fd = glm::dot(h.normal, d); // inside: < 0
+                    if (fd == 0) {
+                        if (!(fa < 0)) return false;
+                        continue;
+                    }
+                    const double u = -fa / fd;
+                    if (fd > 0) t1 = std::min(t1, u);
+                    else t0 = std::max(t0, u);
+                }
+                return t0 < t1;
             } else {
-                return false; // shapes this reference does not know occlude nothing (the test scenes have none)
+                return false; // shapes this reference does not know occlude nothing
             }
         },
         s);
@@ -148,6 +164,17 @@ template <int D> void samplesOf(const Shape<D>& s, const OrthoOptions& opt, std:
                                 }
                                 out.push_back(p);
                             }
+            } else if constexpr (std::is_same_v<T, ConvexPolytope>) {
+                // Vertices, points along every edge and a triangular grid on every boundary triangle.
+                const int n = opt.edgeSamples;
+                for (const Vec3& v : x.vertices) out.push_back(v);
+                for (const auto& e : x.edges)
+                    for (int k = 1; k < n; ++k) out.push_back(x.vertices[e[0]] + (x.vertices[e[1]] - x.vertices[e[0]]) * (double(k) / n));
+                for (const auto& t : x.triangles) {
+                    const Vec3 &A = x.vertices[t[0]], &B = x.vertices[t[1]], &C = x.vertices[t[2]];
+                    for (int i = 1; i < n; ++i)
+                        for (int j = 1; i + j < n; ++j) out.push_back(A + (B - A) * (double(i) / n) + (C - A) * (double(j) / n));
+                }
             } else if constexpr (std::is_same_v<T, ConvexPolygon>) {
                 const int n = 4 * opt.edgeSamples;
                 for (std::size_t i = 0; i < x.points.size(); ++i) {

@@ -137,6 +137,10 @@ enum class Fallback : std::uint8_t {
     /// An orthographic camera (Camera::projection): every object touching its view box is reported (an
     /// exact test, OrthoVolume.hpp); no occlusion, which the grid derives from rays through a point.
     Orthographic,
+    /// An orthographic 3D camera with CullerOptions::orthographicOcclusion: the objects touching its view
+    /// box that the parallel-ray occlusion image does not hide (OrthoPass.cpp); hidden objects are tested
+    /// by their TBV boxes (stats.orthoTbvBoxTests), not through T.
+    OrthographicOcclusion,
 };
 const char* toString(Fallback f);
 
@@ -185,6 +189,7 @@ struct CullStats {
     std::uint64_t nodesHidden = 0;        ///< of those, skipped as hidden behind the occlusion image
     std::uint64_t bricksVisited = 0;      ///< 8x8x8 bricks whose voxels were read
     std::uint32_t imageHidden = 0;        ///< objects met in visited bricks that the traversal's image hid
+    std::uint32_t orthoTbvBoxTests = 0;   ///< orthographic occlusion: hidden objects whose TBV box was tested (all of them)
 };
 
 struct CullResult {
@@ -324,6 +329,12 @@ struct CullerOptions {
     /// default) follows the view: bins of 0.002 rad, at least 64 (786 at 90 degrees, 3,142 for the full
     /// circle, capped at 4,096), fine enough that a closed room's corner closes (BrickPass.cpp).
     int traversalImageBins = 0;
+    /// 3D orthographic cameras: occlusion with parallel rays (true: the brick tree walked front to back
+    /// along the view direction with a conservative depth image over the view box's cross-section, one
+    /// pixel per voxel up to 256 per axis; OrthoPass.cpp, OrthoOcclusionImage.hpp; stats.fallback =
+    /// OrthographicOcclusion), or exact view-volume culling only (false, and always in 2D: stats.fallback
+    /// = Orthographic). Ignored when `occlusion` is false (view-volume culling).
+    bool orthographicOcclusion = true;
 };
 
 template <int D> class Culler {
