@@ -9,9 +9,12 @@
 // both (exit 1 otherwise).
 //
 //   rgvc_bench_views [--views N] [--threads T] [--frames F] [--spheres S] [--seed S]
+//   rgvc_bench_views --ortho [--frames F] [--spheres S] [--seed S] [--ref-every K]
+//     (an orthographic cascade over a city: parallel-ray occlusion against view-volume culling, BenchOrtho.cpp)
 #include "rgvc/dynamics/Culler.hpp"
 #include "rgvc/dynamics/TbbExecutor.hpp"
 
+#include "BenchOrtho.hpp"
 #include "BenchSupport.hpp"
 
 #include "RandomScenes3D.hpp"
@@ -38,7 +41,8 @@ double processCpuMs() {
 }
 
 [[noreturn]] void usage(const char* what) {
-    std::fprintf(stderr, "rgvc_bench_views: %s\nusage: rgvc_bench_views [--views N] [--threads T] [--frames F] [--spheres S] [--seed S]\n", what);
+    std::fprintf(stderr, "rgvc_bench_views: %s\nusage: rgvc_bench_views [--views N] [--threads T] [--frames F] [--spheres S] [--seed S]\n"
+                         "       rgvc_bench_views --ortho [--frames F] [--spheres S] [--seed S] [--ref-every K]\n", what);
     std::exit(2);
 }
 
@@ -54,15 +58,19 @@ int intArg(int& i, int argc, char** argv, int lo, int hi) {
 } // namespace
 
 int main(int argc, char** argv) {
-    int views = 4, threads = 2, frames = 100, spheres = 5000, seed = 1;
+    int views = 4, threads = 2, frames = 100, spheres = 5000, seed = 1, refEvery = 10;
+    bool ortho = false, spheresGiven = false;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--views")) views = intArg(i, argc, argv, 1, int(kMaxViews));
         else if (!std::strcmp(argv[i], "--threads")) threads = intArg(i, argc, argv, 1, 256);
         else if (!std::strcmp(argv[i], "--frames")) frames = intArg(i, argc, argv, 1, 1000000);
-        else if (!std::strcmp(argv[i], "--spheres")) spheres = intArg(i, argc, argv, 1, 10000000);
+        else if (!std::strcmp(argv[i], "--spheres")) spheres = intArg(i, argc, argv, 1, 10000000), spheresGiven = true;
+        else if (!std::strcmp(argv[i], "--ortho")) ortho = true;
+        else if (!std::strcmp(argv[i], "--ref-every")) refEvery = intArg(i, argc, argv, 0, 1000000);
         else if (!std::strcmp(argv[i], "--seed")) seed = intArg(i, argc, argv, 0, 1 << 30);
         else usage((std::string("unknown option ") + argv[i]).c_str());
     }
+    if (ortho) return runOrthoBench(frames, spheresGiven ? spheres : 3000, seed, refEvery);
     ref::MovingSpheres3D b = ref::movingSpheres3D(std::uint64_t(seed), spheres);
     Culler3D serial(b.grid), parallel(b.grid);
     for (const ObjectDesc<3>& o : b.objects) {

@@ -21,7 +21,8 @@
 //   3. Occluders (§4.3-4.4 for parallel rays): each visited brick's opaque voxels (O: inside some
 //      object's occluder model) are drawn as runs along x, boxes of up to 8 voxels; the occluder models of
 //      the objects met are drawn too (sub-voxel exact, and the parts outside the grid), from 2 pixels of
-//      bounding radius on (smaller ones cover no pixel entirely).
+//      bounding radius on (smaller ones cover no pixel entirely); a run inside a box object drawn so is
+//      not drawn again.
 //   4. Verdicts after the walk, when the image holds every occluder drawn (the order of 1. makes most of
 //      them present when a node is tested; the verdicts wait for all): every object met, every object
 //      reaching outside the grid (the image's facts hold for any point, in the grid or not) and every
@@ -70,6 +71,20 @@ void Culler<D>::Impl::orthoOcclusionView(ViewScratch<S>& vs, const OrthoVolume<D
             image.draw(*r.at.occluder(), grid.conversionSlack(r.at.worldMagnitude) + viewSlack);
     };
 
+    // A run of opaque voxels inside a box object whose model was drawn (met in the run's first voxel,
+    // large enough) repeats that box: not drawn again (inside buildings and walls, most runs are such).
+    auto drawnBoxHolds = [&](VoxelKey seed, const IVec3& lo, const IVec3& hi) {
+        bool inside = false;
+        storage.forEachId(seed, [&](ObjectSlot slot) {
+            const Record& r = records[slot];
+            const auto* b = std::get_if<Box<3>>(&r.at.local);
+            if (inside || b == nullptr || !r.at.occludes || r.at.inset || (r.state != State::Tracked && r.state != State::Static)) return;
+            if (boundingBall<3>(r.at.local).radius < 2 * pixel) return;
+            inside = glm::all(glm::lessThanEqual(b->min, Vec3(lo))) && glm::all(glm::greaterThanEqual(b->max, Vec3(hi + 1)));
+        });
+        return inside;
+    };
+
     // 1.-3. The walk.
     const Vec3 f = volume.axis(0);
     Vec3 apex = volume.origin();
@@ -102,7 +117,8 @@ void Culler<D>::Impl::orthoOcclusionView(ViewScratch<S>& vs, const OrthoVolume<D
                         }
                         if (opaque && runStart < 0) runStart = x;
                         if (!opaque && runStart >= 0) {
-                            if (active) image.drawBox(Vec3(runStart, y, z), Vec3(x, y + 1, z + 1), viewSlack);
+                            if (active && !drawnBoxHolds(row + VoxelKey(runStart), IVec3{runStart, y, z}, IVec3{x - 1, y, z}))
+                                image.drawBox(Vec3(runStart, y, z), Vec3(x, y + 1, z + 1), viewSlack);
                             runStart = -1;
                         }
                     }

@@ -116,7 +116,7 @@ namespace {
 
 /// A small convex polygon on the image plane.
 struct Poly {
-    double u[40], v[40];
+    double u[24], v[24]; // a square clipped by at most 8 + 8 half-planes
     int n = 0;
 };
 
@@ -136,8 +136,8 @@ void clipBy(const Poly& p, double au, double av, double bu, double bv, double sh
     for (int k = 0; k < p.n; ++k) {
         const int l = (k + 1) % p.n;
         const double sk = side(p.u[k], p.v[k]), sl = side(p.u[l], p.v[l]);
-        if (sk >= 0 && out.n < 40) out.u[out.n] = p.u[k], out.v[out.n++] = p.v[k];
-        if (((sk > 0 && sl < 0) || (sk < 0 && sl > 0)) && out.n < 40) {
+        if (sk >= 0 && out.n < 24) out.u[out.n] = p.u[k], out.v[out.n++] = p.v[k];
+        if (((sk > 0 && sl < 0) || (sk < 0 && sl > 0)) && out.n < 24) {
             const double t = sk / (sk - sl);
             out.u[out.n] = p.u[k] + t * (p.u[l] - p.u[k]);
             out.v[out.n++] = p.v[k] + t * (p.v[l] - p.v[k]);
@@ -246,7 +246,9 @@ void OrthoOcclusionImage::draw(const Shape<3>& occluder, double slack) {
             double z = std::max({a[k], a[k + 1], n[k], n[k + 1]}); // +inf when a corner misses
             if (!std::isfinite(z) && self >= 0) {
                 const int hits = std::isfinite(a[k]) + std::isfinite(a[k + 1]) + std::isfinite(n[k]) + std::isfinite(n[k + 1]);
-                if (hits == 0) continue;
+                // Covered already (by a nearer or farther occluder): the union test is skipped, which
+                // only ever leaves a pixel's depth as it is (it costs most of a draw along seams).
+                if (hits == 0 || std::isfinite(row[i])) continue;
                 // Covered in part: the union with the last box that covered this pixel in part.
                 const std::int32_t other = partial[i];
                 partial[i] = self;

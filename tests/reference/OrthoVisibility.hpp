@@ -95,9 +95,13 @@ template <int D> bool segmentMeetsInterior(const Vec<D>& a, const Vec<D>& b, con
                 }
                 const double sign = area >= 0 ? 1.0 : -1.0;
                 for (std::size_t i = 0; i < m; ++i) {
-                    const Vec2 p = x.points[i], e = x.points[(i + 1) % m] - p;
-                    const double len = std::sqrt(lengthSquared<2>(e));
-                    const Vec2 n = sign * Vec2{-e.y / len, e.x / len}; // inward
+                    // auto: the types stay dependent on T, so clang does not check this branch for D = 3
+                    const auto p = x.points[i];
+                    const auto e = x.points[(i + 1) % m] - p;
+                    const double len = std::sqrt(e.x * e.x + e.y * e.y);
+                    auto n = e;
+                    n.x = -sign * e.y / len; // inward
+                    n.y = sign * e.x / len;
                     const double fa = glm::dot(a - p, n) - tol, fd = glm::dot(d, n); // inside: > 0
                     if (fd == 0) {
                         if (!(fa > 0)) return false;
@@ -112,7 +116,7 @@ template <int D> bool segmentMeetsInterior(const Vec<D>& a, const Vec<D>& b, con
                 // The open segment against the open polytope (planes moved in by tol): the slab test over
                 // every facet plane.
                 double t0 = 0, t1 = 1;
-                for (const HalfSpace& h : x.planes) {
+                for (const auto& h : x.planes) { // auto: dependent on T (clang, D = 2)
                     const double fa = glm::dot(h.normal, a) - (h.offset - tol), fd = glm::dot(h.normal, d); // inside: < 0
                     if (fd == 0) {
                         if (!(fa < 0)) return false;
@@ -167,18 +171,19 @@ template <int D> void samplesOf(const Shape<D>& s, const OrthoOptions& opt, std:
             } else if constexpr (std::is_same_v<T, ConvexPolytope>) {
                 // Vertices, points along every edge and a triangular grid on every boundary triangle.
                 const int n = opt.edgeSamples;
-                for (const Vec3& v : x.vertices) out.push_back(v);
+                // (auto, not Vec3: the types stay dependent on T, which clang needs for D = 2)
+                for (const auto& v : x.vertices) out.push_back(v);
                 for (const auto& e : x.edges)
                     for (int k = 1; k < n; ++k) out.push_back(x.vertices[e[0]] + (x.vertices[e[1]] - x.vertices[e[0]]) * (double(k) / n));
                 for (const auto& t : x.triangles) {
-                    const Vec3 &A = x.vertices[t[0]], &B = x.vertices[t[1]], &C = x.vertices[t[2]];
+                    const auto &A = x.vertices[t[0]], &B = x.vertices[t[1]], &C = x.vertices[t[2]];
                     for (int i = 1; i < n; ++i)
                         for (int j = 1; i + j < n; ++j) out.push_back(A + (B - A) * (double(i) / n) + (C - A) * (double(j) / n));
                 }
             } else if constexpr (std::is_same_v<T, ConvexPolygon>) {
                 const int n = 4 * opt.edgeSamples;
                 for (std::size_t i = 0; i < x.points.size(); ++i) {
-                    const Vec2 a = x.points[i], b = x.points[(i + 1) % x.points.size()];
+                    const auto a = x.points[i], b = x.points[(i + 1) % x.points.size()]; // dependent (clang, D = 3)
                     for (int k = 0; k < n; ++k) out.push_back(a + (b - a) * (double(k) / n));
                 }
             }

@@ -134,8 +134,8 @@ template <int D> using PlacementQuery = std::function<Shape<D>(ObjectId)>;
 enum class Fallback : std::uint8_t {
     None,              ///< grid traversal only
     CameraOutsideGrid, ///< camera outside the grid box: every object touching the view region is reported
-    /// An orthographic camera (Camera::projection): every object touching its view box is reported (an
-    /// exact test, OrthoVolume.hpp); no occlusion, which the grid derives from rays through a point.
+    /// An orthographic camera (Camera::projection) in 2D, or in 3D with CullerOptions::orthographicOcclusion
+    /// false: every object touching its view box is reported (an exact test, OrthoVolume.hpp), no occlusion.
     Orthographic,
     /// An orthographic 3D camera with CullerOptions::orthographicOcclusion: the objects touching its view
     /// box that the parallel-ray occlusion image does not hide (OrthoPass.cpp); hidden objects are tested

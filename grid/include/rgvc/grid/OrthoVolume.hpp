@@ -2,13 +2,13 @@
 // closed box origin + t f + x right (+ y trueUp) with 0 <= t <= depth, |x| <= halfWidth (|y| <=
 // halfHeight), and its exact touch tests.
 //
-// What an orthographic view culls (Culler, stats.fallback = orthographic): exactly the objects whose
-// shape misses this box (grown by the conversion slack), nothing more. The grid's occlusion is not used:
-// the traversal, its caps and its occlusion image, and the occlusion buffer, all derive occlusion from
-// rays through the camera point (a shadow of an occluder is the cone from the apex behind it, §4.4), and
-// none of their facts holds for parallel rays. A parallel-ray occlusion needs its own image (depth
-// along f over the box's cross-section); until it exists, an orthographic view is view-volume culling,
-// exact and conservative.
+// What an orthographic view culls (Culler): with CullerOptions::orthographicOcclusion (3D, the default;
+// stats.fallback = OrthographicOcclusion) the objects touching this box that the parallel-ray occlusion
+// image hides (OrthoPass.cpp, OrthoOcclusionImage.hpp: the perspective traversal's caps, image and buffer
+// all derive occlusion from rays through the camera point, §4.4, and none of their facts holds for
+// parallel rays, so that pass has its own image of depths along f over the box's cross-section); without
+// it, and always in 2D (stats.fallback = Orthographic), exactly the objects whose shape misses this box
+// (grown by the conversion slack): view-volume culling, exact and conservative.
 //
 // Exactness. Boxes (axis-aligned) and convex polygons are tested with the separating axis theorem over
 // every candidate axis (3D: the 3 grid axes, the 3 box axes and their 9 cross products; 2D: the 2 grid
