@@ -2,12 +2,13 @@
 // parallel-ray occlusion (CullerOptions::orthographicOcclusion, the default) and with view-volume culling
 // only (orthographicOcclusion = false), interleaved frame by frame on the same scene.
 //
-// The scene (fixed seed): a 128 x 48 x 128 grid of unit voxels; 60 solid buildings (boxes 6-18 wide,
-// 8-40 tall) and a deck (a slab at height 22 over a quarter of the city); `spheres` moving spheres
+// The scene (fixed seed): a 128 x 48 x 128 grid of unit voxels; 60 buildings (boxes 6-18 wide, 8-40
+// tall; every other one hollow: four walls and a roof 1 voxel thick, with spheres inside) and a deck (a slab at height 22 over a quarter of the city); `spheres` moving spheres
 // (radius 0.3-1.5, max_speed 0.5, pushed with updateObject every frame, reflected at the grid and never
 // entering a building). The camera: an orthographic box 64 x 64 wide looking along the sun direction
-// (0.3, -1, 0.2), sweeping across the city. Per frame: cull_ms of both cullers (stats.cullMs), their
-// |PVS|; every refEvery-th frame the sampled parallel-ray reference (reference/OrthoVisibility.hpp, 100
+// (0.3, -1, 0.2), sweeping across the city. Per frame: cull_ms of both cullers (stats.cullMs, wall
+// time) and the thread's CPU time for the call (on a shared machine wall time includes waiting for a
+// core), their |PVS|; every refEvery-th frame the sampled parallel-ray reference (reference/OrthoVisibility.hpp, 100
 // samples per sphere, over the objects the view box touches) gives |visible|, and a miss exits 1.
 #include "BenchOrtho.hpp"
 
@@ -44,9 +45,20 @@ int runOrthoBench(int frames, int spheres, int seed, int refEvery) {
     for (int k = 0; k < 60; ++k) {
         const double w = 6 + 12 * u01(rng), d = 6 + 12 * u01(rng), h = 8 + 32 * u01(rng);
         const double x = 2 + (124 - w) * u01(rng), z = 2 + (124 - d) * u01(rng);
-        const Box<3> b{{x, 0, z}, {x + w, h, z + d}};
-        solids.push_back(b);
-        objects.push_back({.id = ObjectId(100000 + k), .shape = b, .isStatic = true});
+        if (k % 2 == 0) { // solid
+            const Box<3> b{{x, 0, z}, {x + w, h, z + d}};
+            solids.push_back(b);
+            objects.push_back({.id = ObjectId(100000 + 10 * k), .shape = b, .isStatic = true});
+            continue;
+        }
+        // Hollow: four walls and a roof, 1 thick; spheres may live inside.
+        const Box<3> parts[5] = {{{x, 0, z}, {x + 1, h, z + d}},         {{x + w - 1, 0, z}, {x + w, h, z + d}},
+                                 {{x, 0, z}, {x + w, h, z + 1}},         {{x, 0, z + d - 1}, {x + w, h, z + d}},
+                                 {{x, h - 1, z}, {x + w, h, z + d}}};
+        for (int p = 0; p < 5; ++p) {
+            solids.push_back(parts[p]);
+            objects.push_back({.id = ObjectId(100000 + 10 * k + p), .shape = parts[p], .isStatic = true});
+        }
     }
     const Box<3> deck{{0, 22, 64}, {64, 23, 128}};
     solids.push_back(deck);
@@ -71,7 +83,7 @@ int runOrthoBench(int frames, int spheres, int seed, int refEvery) {
         occl.addObject(o);
         vfc.addObject(o);
     }
-    std::vector<double> msO, msV;
+    std::vector<double> msO, msV, cpuO, cpuV; // wall (stats.cullMs) and this thread's CPU time per cull
     double pvsO = 0, pvsV = 0, visSum = 0, ratioO = 0, ratioV = 0;
     int checked = 0, misses = 0;
     std::uint64_t bricks = 0;
@@ -100,10 +112,15 @@ int runOrthoBench(int frames, int spheres, int seed, int refEvery) {
         cam.width = 64;
         cam.height = 64;
         const bool first = f % 2 == 0; // alternate which culler runs first
+        const double c0 = threadCpuMs();
         const CullResult& a = first ? occl.cull(cam) : vfc.cull(cam);
+        const double c1 = threadCpuMs();
         const CullResult& b = first ? vfc.cull(cam) : occl.cull(cam);
+        const double c2 = threadCpuMs();
         const CullResult& ro = first ? a : b;
         const CullResult& rv = first ? b : a;
+        cpuO.push_back(first ? c1 - c0 : c2 - c1);
+        cpuV.push_back(first ? c2 - c1 : c1 - c0);
         msO.push_back(ro.stats.cullMs);
         msV.push_back(rv.stats.cullMs);
         pvsO += double(ro.pvs.size());
@@ -137,13 +154,13 @@ int runOrthoBench(int frames, int spheres, int seed, int refEvery) {
             }
         }
     }
-    std::printf("rgvc_bench_views --ortho: %zu objects (%d moving spheres, 61 static occluders), %d frames, %s\n",
-                objects.size(), spheres, frames, machine().c_str());
-    std::printf("| ortho variant | median cull_ms | p90 | mean PVS | PVS/visible |\n|---|---|---|---|---|\n");
-    std::printf("| occlusion | %.3f | %.3f | %.1f | %.2f |\n", percentile(msO, 0.5), percentile(msO, 0.9), pvsO / frames,
-                checked ? ratioO / checked : 0.0);
-    std::printf("| view volume (VFC) | %.3f | %.3f | %.1f | %.2f |\n", percentile(msV, 0.5), percentile(msV, 0.9), pvsV / frames,
-                checked ? ratioV / checked : 0.0);
+    std::printf("rgvc_bench_views --ortho: %zu objects (%d moving spheres, %zu static occluders), %d frames, %s\n",
+                objects.size(), spheres, objects.size() - std::size_t(spheres), frames, machine().c_str());
+    std::printf("| ortho variant | median cull_ms | p90 | median CPU ms | mean PVS | PVS/visible |\n|---|---|---|---|---|---|\n");
+    std::printf("| occlusion | %.3f | %.3f | %.3f | %.1f | %.2f |\n", percentile(msO, 0.5), percentile(msO, 0.9),
+                percentile(cpuO, 0.5), pvsO / frames, checked ? ratioO / checked : 0.0);
+    std::printf("| view volume (VFC) | %.3f | %.3f | %.3f | %.1f | %.2f |\n", percentile(msV, 0.5), percentile(msV, 0.9),
+                percentile(cpuV, 0.5), pvsV / frames, checked ? ratioV / checked : 0.0);
     std::printf("  reference checks: %d frames, mean |visible| %.1f, %d misses; occlusion read %.1f bricks per frame\n", checked,
                 checked ? visSum / checked : 0.0, misses, double(bricks) / frames);
     return misses == 0 ? 0 : 1;
