@@ -21,6 +21,13 @@ CullerOptions vfcOptions() {
     return o;
 }
 
+/// The pass under test: off by default (CullerOptions::orthographicOcclusion).
+CullerOptions occlusionOptions() {
+    CullerOptions o;
+    o.orthographicOcclusion = true;
+    return o;
+}
+
 Camera3 orthoCamera(const Vec3& position, const Vec3& direction, double width, double height, double far = kInf) {
     Camera3 c;
     c.projection = Projection::Orthographic;
@@ -48,8 +55,8 @@ TEST_CASE("ortho: random scenes and random orthographic cameras: 0 misses, never
         opt.maxObjects = 60;
         const ref::Scene3D scene = ref::randomScene3D(seed, opt);
         std::mt19937_64 rng(seed * 31 + 7);
-        Culler3D occluding = makeCuller<3>(scene.grid, scene.objects), baseline = makeCuller<3>(scene.grid, scene.objects, vfcOptions());
-        Culler3D multi = makeCuller<3>(scene.grid, scene.objects);
+        Culler3D occluding = makeCuller<3>(scene.grid, scene.objects, occlusionOptions()), baseline = makeCuller<3>(scene.grid, scene.objects, vfcOptions());
+        Culler3D multi = makeCuller<3>(scene.grid, scene.objects, occlusionOptions());
         std::vector<Camera3> cams;
         for (int v = 0; v < 4; ++v) cams.push_back(randomOrtho<3>(rng, scene.grid));
         const MultiCullResult& all = multi.cullViews(cams);
@@ -91,7 +98,7 @@ TEST_CASE("ortho: moving spheres with TBVs under a sweeping cascade and a player
     std::vector<ObjectDesc<3>> objects = b.objects;
     objects.push_back({.id = 9000, .shape = Box<3>{{4, 20, 4}, {30, 21, 60}}, .isStatic = true});
     objects.push_back({.id = 9001, .shape = Box<3>{{34, 30, 2}, {70, 31, 40}}, .isStatic = true}); // reaches outside
-    Culler3D culler(b.grid);
+    Culler3D culler(b.grid, occlusionOptions());
     for (const ObjectDesc<3>& o : objects) culler.addObject(o);
     auto where = [&](ObjectId id) { return id >= 9000 ? objects[std::size_t(b.objects.size() + (id - 9000))].shape : b.objects[std::size_t(id)].shape; };
     int misses = 0, mustCull = 0, wrongKeeps = 0, revealed = 0;
@@ -131,7 +138,7 @@ TEST_CASE("ortho: a wall across the view hides everything behind it; VFC keeps i
         else objects.push_back({.id = id, .shape = Box<3>{c - 1.0, c + 1.0}});
     }
     objects.push_back({.id = 2, .shape = Ball<3>{{30, 56, 30}, 2}}); // above the wall: visible
-    Culler3D culler = makeCuller<3>(grid, objects), baseline = makeCuller<3>(grid, objects, vfcOptions());
+    Culler3D culler = makeCuller<3>(grid, objects, occlusionOptions()), baseline = makeCuller<3>(grid, objects, vfcOptions());
     for (const Vec3& dir : {Vec3(0, -1, 0), Vec3(0.2, -1, 0.1), Vec3(-0.3, -1, 0.25)}) {
         INFO("direction " << dir.x << " " << dir.y << " " << dir.z);
         // A box well inside the wall's footprint, so that every ray reaching the objects crosses the wall.
@@ -161,7 +168,7 @@ TEST_CASE("ortho: a closed room hides its inside along every axis; oblique views
     for (ObjectId k = 0; k < 27; ++k) // a 3x3x3 lattice of spheres inside
         objects.push_back({.id = 100 + k, .shape = Ball<3>{{16.0 + 8 * double(k % 3), 16.0 + 8 * double(k / 3 % 3), 16.0 + 8 * double(k / 9)}, 2}});
     objects.push_back({.id = 50, .shape = Ball<3>{{42, 42, 42}, 2}}); // outside the room
-    Culler3D culler = makeCuller<3>(grid, objects);
+    Culler3D culler = makeCuller<3>(grid, objects, occlusionOptions());
     // Along the axes (top-down included) one wall covers the whole inside: every sphere hidden.
     for (int a = 0; a < 3; ++a)
         for (double s : {-1.0, 1.0}) {
@@ -199,7 +206,7 @@ TEST_CASE("ortho: a closed room hides its inside along every axis; oblique views
 
 TEST_CASE("ortho: work budget: an empty grid reads no brick, a wall stops the walk", "[ortho]") {
     const GridGeometry3 grid({0, 0, 0}, 1.0, {128, 64, 128});
-    Culler3D empty(grid);
+    Culler3D empty(grid, occlusionOptions());
     const Camera3 top = orthoCamera({64, 63, 64}, {0, -1, 0}, 120, 120);
     const CullResult& e = empty.cull(top);
     CHECK(e.pvs.empty());
@@ -209,7 +216,7 @@ TEST_CASE("ortho: work budget: an empty grid reads no brick, a wall stops the wa
     std::vector<ObjectDesc<3>> objects = {{.id = 1, .shape = Box<3>{{0, 58, 0}, {128, 60, 128}}, .isStatic = true}};
     for (ObjectId k = 0; k < 400; ++k)
         objects.push_back({.id = 10 + k, .shape = Ball<3>{{4.0 + double(k % 20) * 6, 4.0 + double(k / 20 % 5) * 10, 4.0 + double(k / 100) * 30}, 1.5}});
-    Culler3D wall = makeCuller<3>(grid, objects);
+    Culler3D wall = makeCuller<3>(grid, objects, occlusionOptions());
     const CullResult& w = wall.cull(top);
     CHECK(w.pvs == std::vector<ObjectId>{1});
     // The floor's layer: 16 x 16 bricks; everything below is skipped as hidden nodes.

@@ -251,7 +251,9 @@ template <int D, class MakeScene> void orthoScenes(const char* name, int scenes,
         // A perspective view beside them: views of both kinds in one frame.
         if constexpr (D == 2) cams.push_back(ref::randomCamera2D(rng, scene.grid, scene.objects, scene.snapped));
         else cams.push_back(ref::randomCamera3D(rng, scene.grid, scene.objects, scene.snapped));
-        Culler<D> single = makeCuller<D>(scene.grid, scene.objects), multi = makeCuller<D>(scene.grid, scene.objects);
+        CullerOptions options; // 3D: the parallel-ray occlusion (off by default), through cull and cullViews
+        options.orthographicOcclusion = true;
+        Culler<D> single = makeCuller<D>(scene.grid, scene.objects, options), multi = makeCuller<D>(scene.grid, scene.objects, options);
         const MultiCullResult& r = multi.cullViews(cams, &tbb2);
         for (int v = 0; v < 3; ++v) {
             INFO(name << " seed " << seed << " view " << v);
@@ -343,7 +345,7 @@ TEST_CASE("views: orthographic camera validation", "[views][ortho]") {
     c.fovDeg = 0;    // not read by an orthographic camera
     c.aspect = -1;   // nor this
     CHECK(culler.cull(c).pvs == std::vector<ObjectId>{1});
-    CHECK(culler.lastResult().stats.fallback == Fallback::OrthographicOcclusion);
+    CHECK(culler.lastResult().stats.fallback == Fallback::Orthographic); // the default: view-volume culling
     c.position.x = 11.5; // the box's edge is 1.5 + 2 = 3.5 voxels from the centre: the ball (radius 1) misses
     CHECK(culler.cull(c).pvs.empty());
     Camera3 bad = c;

@@ -1,6 +1,6 @@
 // rgvc_bench_views --ortho: a shadow-cascade-like orthographic view over a small city, culled with the
-// parallel-ray occlusion (CullerOptions::orthographicOcclusion, the default) and with view-volume culling
-// only (orthographicOcclusion = false), interleaved frame by frame on the same scene.
+// parallel-ray occlusion (CullerOptions::orthographicOcclusion = true) and with view-volume culling
+// only (orthographicOcclusion = false, the default), interleaved frame by frame on the same scene.
 //
 // The scene (fixed seed): a 128 x 48 x 128 grid of unit voxels; 60 buildings (boxes 6-18 wide, 8-40
 // tall; every other one hollow: four walls and a roof 1 voxel thick, with spheres inside) and a deck (a slab at height 22 over a quarter of the city); `spheres` moving spheres
@@ -78,7 +78,9 @@ int runOrthoBench(int frames, int spheres, int seed, int refEvery) {
     }
     CullerOptions vfcOptions;
     vfcOptions.orthographicOcclusion = false;
-    Culler3D occl(grid), vfc(grid, vfcOptions);
+    CullerOptions occlOptions;
+    occlOptions.orthographicOcclusion = true;
+    Culler3D occl(grid, occlOptions), vfc(grid, vfcOptions);
     for (const ObjectDesc<3>& o : objects) {
         occl.addObject(o);
         vfc.addObject(o);

@@ -332,9 +332,13 @@ struct CullerOptions {
     /// 3D orthographic cameras: occlusion with parallel rays (true: the brick tree walked front to back
     /// along the view direction with a conservative depth image over the view box's cross-section, one
     /// pixel per voxel up to 256 per axis; OrthoPass.cpp, OrthoOcclusionImage.hpp; stats.fallback =
-    /// OrthographicOcclusion), or exact view-volume culling only (false, and always in 2D: stats.fallback
-    /// = Orthographic). Ignored when `occlusion` is false (view-volume culling).
-    bool orthographicOcclusion = true;
+    /// OrthographicOcclusion), or exact view-volume culling only (false, the default, and always in 2D:
+    /// stats.fallback = Orthographic). Ignored when `occlusion` is false (view-volume culling).
+    /// Off by default because the views orthographic cameras serve most (shadow cascades, top-down and
+    /// editor views) look at open content: on the README's cascade over a city the occlusion pass costs
+    /// 3.5 ms where view-volume culling costs 0.2 ms, for 9 % fewer objects. Turn it on for views that look
+    /// through walls and floors (side views of a building's storeys, a level seen from below).
+    bool orthographicOcclusion = false;
 };
 
 template <int D> class Culler {

@@ -2,7 +2,7 @@
 // closed box origin + t f + x right (+ y trueUp) with 0 <= t <= depth, |x| <= halfWidth (|y| <=
 // halfHeight), and its exact touch tests.
 //
-// What an orthographic view culls (Culler): with CullerOptions::orthographicOcclusion (3D, the default;
+// What an orthographic view culls (Culler): with CullerOptions::orthographicOcclusion (3D, opt-in;
 // stats.fallback = OrthographicOcclusion) the objects touching this box that the parallel-ray occlusion
 // image hides (OrthoPass.cpp, OrthoOcclusionImage.hpp: the perspective traversal's caps, image and buffer
 // all derive occlusion from rays through the camera point, §4.4, and none of their facts holds for
