@@ -301,6 +301,9 @@ template <int D> bool shiftedForReference(const Vec<D>& shift, std::vector<Shape
                     // Vertices and bounds move exactly; plane offsets would round: never exact.
                     exact = false;
                     x = translatedPolytope(x, -shift);
+                } else if constexpr (D == 3 && std::is_same_v<T, MeshSolid>) {
+                    exact = false; // the same for a mesh's hull
+                    x = x.translated(-shift);
                 } else
                     static_assert(kUnhandledShape<T>);
             },

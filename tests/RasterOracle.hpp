@@ -88,6 +88,10 @@ inline std::string describe(const Shape<3>& s) {
     } else if (auto* x = std::get_if<Box<3>>(&s)) {
         o << "Box3{min=(" << x->min.x << ", " << x->min.y << ", " << x->min.z << "), max=(" << x->max.x << ", "
           << x->max.y << ", " << x->max.z << ")}";
+    } else if (const auto* m = std::get_if<MeshSolid>(&s)) {
+        o << "MeshSolid{" << (m->model() ? m->model()->mesh.triangles.size() : 0) << " triangles, "
+          << (m->closed() ? "closed" : "open") << ", scale " << m->scale() << ", offset (" << m->offset().x << ", "
+          << m->offset().y << ", " << m->offset().z << ")}";
     } else {
         const auto& p = std::get<ConvexPolytope>(s);
         o << "ConvexPolytope{points=[";

@@ -1,16 +1,21 @@
 // Triangle meshes (grid/TriangleMesh.hpp): validation, closedness, and the conservative voxelization
 // against brute force (sample points of every O voxel inside the analytic solid, no triangle meeting an
-// O voxel, every voxel a triangle touches in I by Akenine-Moller's separating-axis test).
+// O voxel, every voxel a triangle touches in I by Akenine-Moller's separating-axis test); the mesh as a
+// shape (grid/MeshSolid.hpp): model, hull, placements, its O and I rows, moving footprints.
 #include "rgvc/grid/ConservativeRaster.hpp"
 #include "rgvc/grid/Error.hpp"
+#include "rgvc/grid/MeshSolid.hpp"
+#include "rgvc/grid/RowFootprint.hpp"
 #include "rgvc/grid/TriangleMesh.hpp"
 #include "reference/SeededRandom.hpp"
+#include "reference/TestMeshes.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <array>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <set>
 #include <tuple>
 
@@ -374,4 +379,158 @@ TEST_CASE("Mesh voxelization of a large mesh reuses its scratch", "[grid][mesh]"
     const std::size_t cap = vox.crossings.capacity() + vox.touchedScratch.capacity() + vox.spans.capacity();
     voxelizeMesh(m, IVec3{128}, true, true, kConservativeSlack, vox);
     CHECK(vox.crossings.capacity() + vox.touchedScratch.capacity() + vox.spans.capacity() == cap);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// MeshSolid (grid/MeshSolid.hpp): a mesh as a Shape<3>, its hull the outer model, its solid voxelization O.
+
+namespace {
+
+/// Whether world point p lies in the union of the cells (cell size `size`, lower corner `at`, unturned)
+/// grown by eps: the brute force for reference::cellMesh solids.
+bool inCells(const std::vector<reference::Cell>& cells, const Vec3& size, const Vec3& at, const Vec3& p, double eps) {
+    for (const reference::Cell& c : cells) {
+        bool in = true;
+        for (int a = 0; a < 3; ++a) {
+            const double lo = at[a] + c[std::size_t(a)] * size[a];
+            in = in && p[a] >= lo - eps && p[a] <= lo + size[a] + eps;
+        }
+        if (in) return true;
+    }
+    return false;
+}
+
+/// A storage that records what RowFootprint writes: ids per voxel, opaque counts per voxel.
+struct RecordingStorage {
+    std::map<VoxelKey, std::set<ObjectSlot>> ids;
+    std::map<VoxelKey, int> opaque;
+    void addId(VoxelKey k, ObjectSlot s) { CHECK(ids[k].insert(s).second); }
+    void removeId(VoxelKey k, ObjectSlot s) { CHECK(ids[k].erase(s) == 1); }
+    void addOpaque(VoxelKey k, int sign) {
+        opaque[k] += sign;
+        CHECK(opaque[k] >= 0);
+    }
+    void tidy() {
+        std::erase_if(ids, [](const auto& e) { return e.second.empty(); });
+        std::erase_if(opaque, [](const auto& e) { return e.second == 0; });
+    }
+};
+
+} // namespace
+
+TEST_CASE("MeshSolid: the model, its hull, placements, validation and the inset", "[grid][mesh]") {
+    TriangleMesh cube;
+    appendBox(cube, {1, 2, 3}, {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}}, {1, 2, 3});
+    const auto model = makeMeshModel(cube, "objects[4]");
+    CHECK(model->closed());
+    CHECK(model->hull.vertices.size() == 8);
+    const MeshSolid m(model);
+    CHECK(boundsOf(m).min == Vec3(0, 0, 0));
+    CHECK(boundsOf(m).max == Vec3(2, 4, 6));
+    // Moved: the hull with it, the model shared (copies of a placement cost the hull, not the mesh).
+    const Shape<3> moved = translated<3>(Shape<3>(m), Vec3{10, 0, -1});
+    const MeshSolid& mm = std::get<MeshSolid>(moved);
+    CHECK(mm.offset() == Vec3(10, 0, -1));
+    CHECK(mm.sharedModel() == model);
+    CHECK(boundsOf<3>(moved).min == Vec3(10, 0, -1));
+    CHECK(mm.place(Vec3(2, 4, 6)) == Vec3(12, 4, 5));
+    // toLocal: the same map for the mesh and the hull.
+    const GridGeometry3 grid({-4, 0, 2}, 0.5, {40, 40, 40});
+    const Shape<3> local = toLocal<3>(moved, grid);
+    const MeshSolid& ml = std::get<MeshSolid>(local);
+    CHECK(ml.place(Vec3(0, 0, 0)) == grid.toLocal(Vec3(10, 0, -1)));
+    CHECK(boundsOf<3>(local).max.x == Approx(grid.toLocal(Vec3(12, 4, 5)).x));
+    // Validation at the API boundary.
+    Shape<3> none = MeshSolid{};
+    CHECK_THROWS_AS(validateShape<3>(none, "objects[4]"), InvalidInput);
+    CHECK_THROWS_AS(MeshSolid(nullptr, "objects[4]"), InvalidInput);
+    Shape<3> ok = m;
+    CHECK_NOTHROW(validateShape<3>(ok, "objects[4]"));
+    TriangleMesh bad = cube;
+    bad.triangles[0][0] = 99;
+    CHECK_THROWS_WITH(makeMeshModel(bad, "objects[4]"), Catch::Contains("objects[4].mesh"));
+    // An open mesh: a model without a solid.
+    TriangleMesh open = cube;
+    open.triangles.pop_back();
+    CHECK_FALSE(makeMeshModel(open, "o")->closed());
+    // No erosion of a mesh: a positive inset leaves nothing to occlude, zero keeps the mesh.
+    Shape<3> out;
+    CHECK_FALSE(insetShape<3>(Shape<3>(m), 0.1, out));
+    CHECK(insetShape<3>(Shape<3>(m), 0.0, out));
+    // A flat mesh (one triangle) still gets a hull with an interior: its grown bounding box.
+    TriangleMesh tri;
+    tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    tri.triangles = {{0, 1, 2}};
+    const auto flat = makeMeshModel(tri, "t");
+    CHECK_FALSE(flat->closed());
+    CHECK(flat->hull.boundsMin.z < 0);
+    CHECK(flat->hull.boundsMax.z > 0);
+}
+
+TEST_CASE("MeshSolid rasterization: O inside the solid with several spans per row, I the hull's", "[grid][mesh]") {
+    // A U (open towards +y) and a ring, at non-integer places on a grid with an odd origin and voxel size:
+    // every O voxel (its corners and centre) lies in the union of the cells, some row holds two spans, I is
+    // exactly the hull's touched rows, and O lies in I.
+    const GridGeometry3 grid({-3.3, 0.7, 1.1}, 0.37, {64, 48, 64});
+    struct Case {
+        const std::vector<reference::Cell>* cells;
+        Vec3 size, at;
+    };
+    const Case cases[] = {{&reference::kUCells, {2.1, 1.7, 5.3}, {0.2, 2.9, 4.4}}, {&reference::kRingCells, {1.9, 3.1, 2.3}, {-1.0, 3.3, 3.7}}};
+    for (const Case& c : cases) {
+        const MeshSolid world = reference::cellMesh(*c.cells, c.size, c.at);
+        REQUIRE(world.closed());
+        const Shape<3> local = toLocal<3>(Shape<3>(world), grid);
+        const double slack = grid.conversionSlack(20.0);
+        std::vector<std::array<std::int32_t, 4>> inner, touched, hull;
+        forEachInnerRow<3>(local, grid.resolution(), [&](const IVec3& r, std::int32_t a, std::int32_t b) { inner.push_back({r.z, r.y, a, b}); }, slack);
+        forEachTouchedRow<3>(local, grid.resolution(), [&](const IVec3& r, std::int32_t a, std::int32_t b) { touched.push_back({r.z, r.y, a, b}); }, slack);
+        const Shape<3> localHull = std::get<MeshSolid>(local).hull();
+        forEachTouchedRow<3>(localHull, grid.resolution(), [&](const IVec3& r, std::int32_t a, std::int32_t b) { hull.push_back({r.z, r.y, a, b}); }, slack);
+        CHECK(touched == hull);
+        REQUIRE(inner.size() > 20);
+        CHECK(std::is_sorted(inner.begin(), inner.end()));
+        bool twoSpans = false;
+        for (std::size_t i = 0; i + 1 < inner.size(); ++i)
+            twoSpans = twoSpans || (inner[i][0] == inner[i + 1][0] && inner[i][1] == inner[i + 1][1]);
+        CHECK(twoSpans);
+        std::set<Key> in;
+        for (const auto& s : touched)
+            for (int x = s[2]; x <= s[3]; ++x) in.insert({x, s[1], s[0]});
+        std::size_t outside = 0, notTouched = 0;
+        for (const auto& s : inner)
+            for (int x = s[2]; x <= s[3]; ++x) {
+                notTouched += !in.count({x, s[1], s[0]});
+                for (int k = 0; k < 9; ++k) {
+                    const Vec3 v = k < 8 ? Vec3(x + (k & 1), s[1] + (k >> 1 & 1), s[0] + (k >> 2 & 1)) : Vec3(x + 0.5, s[1] + 0.5, s[0] + 0.5);
+                    outside += !inCells(*c.cells, c.size, c.at, grid.toWorld(v), 1e-9);
+                }
+            }
+        CHECK(outside == 0);
+        CHECK(notTouched == 0);
+    }
+}
+
+TEST_CASE("RowFootprint moves a mesh's footprint (several O spans per row) exactly", "[grid][mesh]") {
+    // A U moved by random steps: moveTo leaves the storage exactly as removing the old footprint and adding
+    // the new one would (same ids, same opaque counts), and no count goes below zero on the way.
+    const GridGeometry3 grid({0, 0, 0}, 1.0, {48, 32, 48});
+    std::mt19937_64 rng(77);
+    MeshSolid u = reference::cellMesh(reference::kUCells, {3.3, 2.7, 6.1}, {10.2, 5.1, 9.7});
+    RowFootprint at, next;
+    at.build<3>(toLocal<3>(Shape<3>(u), grid), grid, kConservativeSlack);
+    RecordingStorage moving;
+    at.write(moving, 5, +1);
+    for (int step = 0; step < 40; ++step) {
+        u = u.translated(Vec3{sr::uniform(rng, -1.5, 1.5), sr::uniform(rng, -1.5, 1.5), sr::uniform(rng, -1.5, 1.5)});
+        next.build<3>(toLocal<3>(Shape<3>(u), grid), grid, kConservativeSlack);
+        at.moveTo(moving, 5, next);
+        RecordingStorage fresh;
+        next.write(fresh, 5, +1);
+        moving.tidy();
+        INFO("step " << step);
+        REQUIRE(next.innerRows() > next.touchedRows() / 4);
+        CHECK(moving.ids == fresh.ids);
+        CHECK(moving.opaque == fresh.opaque);
+    }
 }

@@ -1,9 +1,13 @@
 // Mesh objects in scene files (apps/scene/MeshFile.cpp): OBJ, glTF and GLB files placed by scale, rotation
-// and translation and given to the culler as the placed mesh's convex hull; every bad file and field refused
+// and translation and given to the culler as the placed mesh (MeshSolid: its hull outside, a closed mesh's
+// solid as the occluder; an open mesh an occludee); the scene writer's mesh dumps; every bad file and field refused
 // with one line (MeshFileError reported as a SceneError naming objects[i].file), external glTF buffers only
 // from regular files beside the glTF file. The rest of the scene format is in test_scene_file.cpp.
 #include "SceneFile.hpp"
 #include "SceneMotion.hpp"
+#include "SceneWriter.hpp"
+
+#include "rgvc/dynamics/Culler.hpp"
 
 #include "SceneFileTestSupport.hpp"
 
@@ -25,7 +29,7 @@ using namespace rgvc::scene_test;
 
 // ---------------------------------------------------------------------------------------------------
 // mesh (scene-format.md: `file` relative to the scene file, `translation`, `rotation`, `scale`): read by
-// apps/scene/MeshFile.cpp, given to the culler as the placed mesh's convex hull with role occludee.
+// apps/scene/MeshFile.cpp, given to the culler as the placed mesh (a MeshSolid), role occludee when open.
 // tests/data/cube.* come from scripts/make_mesh_files.py.
 
 namespace {
@@ -85,8 +89,8 @@ std::string readFile(const std::string& path) {
 
 } // namespace
 
-TEST_CASE("mesh objects: OBJ, glTF and GLB cubes placed by scale, rotation, translation, hulls as occludees", "[scene][mesh]") {
-    SECTION("OBJ: scale 2, 90 degrees about z, translation (5, 5, 5); role occluder still becomes occludee") {
+TEST_CASE("mesh objects: OBJ, glTF and GLB cubes placed by scale, rotation, translation, closed ones as solids", "[scene][mesh]") {
+    SECTION("OBJ: scale 2, 90 degrees about z, translation (5, 5, 5); a closed mesh keeps its role occluder") {
         json o = meshObject("cube.obj");
         o["scale"] = 2;
         o["rotation"] = {0, 0, 0.7071067811865476, 0.7071067811865476};
@@ -94,14 +98,16 @@ TEST_CASE("mesh objects: OBJ, glTF and GLB cubes placed by scale, rotation, tran
         o["role"] = "occluder";
         Scene s = parseIn(kDataDir, o);
         const SceneObject<3>& m = s.as<3>()->objects.at(2);
-        const auto* p = std::get_if<ConvexPolytope>(&m.shape);
-        REQUIRE(p);
+        const auto* ms = std::get_if<MeshSolid>(&m.shape);
+        REQUIRE(ms);
+        CHECK(ms->closed());
+        const ConvexPolytope* p = &ms->hull();
         CHECK(p->vertices.size() == 8);
         CHECK(p->planes.size() >= 6);
         // [0,1]^3 scaled to [0,2]^3, turned (x, y) -> (-y, x): x in [-2, 0], y in [0, 2]; then moved.
         checkBounds(m.shape, Vec3(3, 5, 5), Vec3(5, 7, 7));
-        CHECK(m.role == ObjectRole::Occludee);
-        CHECK(m.desc().role == ObjectRole::Occludee);
+        CHECK(m.role == ObjectRole::Occluder);
+        CHECK(m.desc().role == ObjectRole::Occluder);
         REQUIRE(m.mesh);
         CHECK(m.mesh->requestedRole == ObjectRole::Occluder);
         CHECK(m.mesh->closed);
@@ -113,26 +119,31 @@ TEST_CASE("mesh objects: OBJ, glTF and GLB cubes placed by scale, rotation, tran
         o["translation"] = {0, 1, 0};
         Scene s = parseIn(kDataDir, o);
         const SceneObject<3>& m = s.as<3>()->objects.at(2);
-        REQUIRE(std::get_if<ConvexPolytope>(&m.shape));
+        REQUIRE(std::get_if<MeshSolid>(&m.shape));
         checkBounds(m.shape, Vec3(10, 1, 0), Vec3(12, 3, 2));
-        CHECK(m.role == ObjectRole::Occludee);
+        CHECK(m.role == ObjectRole::Both);
         REQUIRE(m.mesh);
         CHECK(m.mesh->closed); // 24 vertices in the file, 8 after welding
         CHECK(m.mesh->vertices == 8);
         CHECK(m.mesh->triangles == 12);
     }
-    SECTION("GLB: per-axis scale [1, 2, 3], uint8 indices, moving like a hull") {
+    SECTION("GLB: per-axis scale [1, 2, 3], uint8 indices, moving (the mesh with its hull)") {
         json o = meshObject("cube.glb");
         o["scale"] = {1, 2, 3};
         o["velocity"] = {0, 0, 1};
         Scene s = parseIn(kDataDir, o);
         const SceneObject<3>& m = s.as<3>()->objects.at(2);
         checkBounds(m.shape, Vec3(0, 0, 0), Vec3(1, 2, 3));
-        CHECK(m.role == ObjectRole::Occludee);
+        CHECK(m.role == ObjectRole::Both);
         CHECK_FALSE(m.isStatic);
         SceneSimulator3 sim(*s.as<3>());
         sim.step();
         checkBounds(sim.shapeAt(2), Vec3(0, 0, 1), Vec3(1, 2, 4));
+        const Shape<3> at1 = sim.shapeAt(2);
+        const auto* moved = std::get_if<MeshSolid>(&at1);
+        REQUIRE(moved);
+        CHECK(moved->offset() == Vec3(0, 0, 1));
+        CHECK(moved->sharedModel() == std::get<MeshSolid>(m.shape).sharedModel()); // one mesh, shared
     }
     SECTION("glTF variants: no indices (every three vertices a triangle), no scenes (meshes untransformed)") {
         json g = json::parse(readFile(kDataDir + "/cube.gltf"));
@@ -144,6 +155,7 @@ TEST_CASE("mesh objects: OBJ, glTF and GLB cubes placed by scale, rotation, tran
         REQUIRE(m.mesh);
         CHECK(m.mesh->triangles == 8);
         CHECK_FALSE(m.mesh->closed);
+        CHECK(m.role == ObjectRole::Occludee); // open: a surface hides nothing
         json n = json::parse(readFile(kDataDir + "/cube.gltf"));
         n.erase("scene");
         n.erase("scenes");
@@ -153,22 +165,76 @@ TEST_CASE("mesh objects: OBJ, glTF and GLB cubes placed by scale, rotation, tran
         checkBounds(parseIn("/nonexistent", meshObject(kDataDir + "/cube.obj")).as<3>()->objects.at(2).shape, Vec3(0, 0, 0),
                     Vec3(1, 1, 1));
     }
-    SECTION("an open, flat mesh (one quad) is a surface: a thin box around it") {
+    SECTION("an open, flat mesh (one quad) is a surface: a thin box around it, an occludee") {
         const std::string dir = writeFile("quad.obj", "v 0 0 0\nv 2 0 0\nv 2 0 3\nv 0 0 3\nf 1 2 3 4\n");
-        Scene s = parseIn(dir, meshObject("quad.obj"));
+        json o = meshObject("quad.obj");
+        o["role"] = "both";
+        Scene s = parseIn(dir, o);
         const SceneObject<3>& m = s.as<3>()->objects.at(2);
         REQUIRE(m.mesh);
         CHECK_FALSE(m.mesh->closed);
-        const auto* b = std::get_if<Box<3>>(&m.shape);
-        REQUIRE(b);
-        CHECK(b->min.x <= 0);
-        CHECK(b->max.x >= 2);
-        CHECK(b->min.y < 0);
-        CHECK(b->max.y > 0);
-        CHECK(b->max.y < 1e-5);
-        CHECK(b->max.z >= 3);
+        CHECK(m.mesh->requestedRole == ObjectRole::Both);
+        REQUIRE(std::get_if<MeshSolid>(&m.shape));
+        const Box<3> b = boundsOf<3>(m.shape);
+        CHECK(b.min.x <= 0);
+        CHECK(b.max.x >= 2);
+        CHECK(b.min.y < 0);
+        CHECK(b.max.y > 0);
+        CHECK(b.max.y < 1e-5);
+        CHECK(b.max.z >= 3);
         CHECK(m.role == ObjectRole::Occludee);
     }
+}
+
+TEST_CASE("mesh objects in the culler: a closed mesh hides what is behind it, an open one nothing; dumps replay", "[scene][mesh]") {
+    // The test cube as a wall (scale [8, 8, 1] at z 4..5) between the camera and a sphere, in a scene file;
+    // the culler built from the loaded objects as `rgvc cull` builds it.
+    json j = json::parse(R"({
+      "dimensions": 3,
+      "grid":   { "origin": [-8, -8, -8], "voxel_size": 0.5, "resolution": [32, 32, 40] },
+      "camera": { "position": [0, 0, 0], "direction": [0, 0, 1], "fov_deg": 40 },
+      "objects": [ { "id": 1, "shape": "sphere", "center": [0, 0, 9], "radius": 0.5 } ]
+    })");
+    json wall = meshObject(kDataDir + "/cube.obj");
+    wall["scale"] = {8, 8, 1};
+    wall["translation"] = {-4, -4, 4};
+    j["objects"].push_back(wall);
+    auto cull = [](const Scene& s, Culler3D& culler) {
+        const SceneData<3>& d = *s.as<3>();
+        for (const SceneObject<3>& o : d.objects) culler.addObject(o.desc());
+        return culler.cull(d.camera).pvs;
+    };
+    const Scene closed = parseScene(j.dump(), "wall.json");
+    Culler3D c1(closed.as<3>()->grid);
+    CHECK(cull(closed, c1) == std::vector<ObjectId>{20}); // the sphere is hidden by the solid wall
+    // Open (the glTF cube without indices: 8 of its 12 triangles), the same wall hides nothing.
+    json g = json::parse(readFile(kDataDir + "/cube.gltf"));
+    g["meshes"][0]["primitives"][0].erase("indices");
+    g.erase("scene");
+    g.erase("scenes"); // untransformed: the unit cube's 8 triangles
+    const std::string dir = writeFile("open-cube.gltf", g.dump());
+    j["objects"][1]["file"] = dir + "/open-cube.gltf";
+    const Scene open = parseScene(j.dump(), "open-wall.json");
+    REQUIRE(open.as<3>()->objects.at(1).role == ObjectRole::Occludee);
+    Culler3D c2(open.as<3>()->grid);
+    CHECK(cull(open, c2) == std::vector<ObjectId>{1, 20});
+
+    // writeSceneFile dumps the mesh object as an OBJ file beside the scene; the replay culls the same.
+    const std::string dumpDir = writeFile("dump.json", "");
+    const std::string path = dumpDir + "/dump.json";
+    writeSceneFile<3>(path, c1, closed.as<3>()->camera);
+    const std::string obj = readFile(dumpDir + "/dump.mesh-20.obj");
+    CHECK(obj.find("\nf ") != std::string::npos);
+    const Scene replay = loadScene(path);
+    const SceneObject<3>& m = replay.as<3>()->objects.at(1);
+    REQUIRE(std::get_if<MeshSolid>(&m.shape));
+    CHECK(m.mesh->closed);
+    CHECK(boundsOf<3>(m.shape).min == boundsOf<3>(closed.as<3>()->objects.at(1).shape).min);
+    CHECK(boundsOf<3>(m.shape).max == boundsOf<3>(closed.as<3>()->objects.at(1).shape).max);
+    Culler3D c3(replay.as<3>()->grid);
+    CHECK(cull(replay, c3) == std::vector<ObjectId>{20});
+    // sceneToJson alone has nowhere to put the mesh: a clear error naming the object.
+    CHECK_THROWS_WITH(sceneToJson<3>(c1, closed.as<3>()->camera), Catch::Contains("object 20") && Catch::Contains("writeSceneFile"));
 }
 
 TEST_CASE("bad mesh objects and files: one line naming the scene, objects[i].file and the problem", "[scene][mesh]") {

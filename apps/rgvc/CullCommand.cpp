@@ -279,9 +279,11 @@ template <int D> int runFrames(const Scene& scene, const SceneData<D>& data, con
     std::unique_ptr<GlStage> gl;
     if constexpr (D == 3)
         if (args.gl.enabled) gl = std::make_unique<GlStage>(args.gl);
-    // Occludee-only objects (glass, foliage, meshes for now) hide nothing by the contract, but the GL stage
-    // writes depth for what it draws: they are kept out of it (not drawn, so they hide nothing there
-    // either) and every one of them in the CPU's PVS stays in the answer.
+    // Occludee-only objects (glass, foliage) hide nothing by the contract, but the GL stage writes depth for
+    // what it draws: they are kept out of it (not drawn, so they hide nothing there either) and every one
+    // of them in the CPU's PVS stays in the answer. Meshes too: the GL stage does not draw triangle meshes
+    // (SceneRenderer), so they are never culled by it and hide nothing in its depth buffer; a closed
+    // mesh's occlusion is the CPU's (its solid voxelization in O), which ran before.
     std::unordered_set<ObjectId> occludees;
     for (std::size_t i = 0; i < data.objects.size(); ++i) {
         try {
@@ -289,8 +291,9 @@ template <int D> int runFrames(const Scene& scene, const SceneData<D>& data, con
             if constexpr (D == 3)
                 if (gl) {
                     // The culler's occluder inside the drawn mesh (GlStage.hpp).
-                    desc.occluderInset = gl->occluderInset(desc.shape);
-                    if (desc.role == ObjectRole::Occludee) occludees.insert(desc.id);
+                    // (Not for a mesh, which GL does not draw: an inset would leave it no occluder at all.)
+                    if (!std::holds_alternative<MeshSolid>(desc.shape)) desc.occluderInset = gl->occluderInset(desc.shape);
+                    if (desc.role == ObjectRole::Occludee || std::holds_alternative<MeshSolid>(desc.shape)) occludees.insert(desc.id);
                     else gl->setObject(desc.id, desc.shape);
                 }
             culler->addObject(desc);

@@ -65,6 +65,28 @@ template <class Planes> Hit rayPlanes(const Planes& planes, const Vec3& o, const
     return {lo, hi};
 }
 
+/// The first and last triangle the ray meets (Moller-Trumbore): a picture's test, not a conservative one.
+Hit rayMesh(const MeshSolid& m, const Vec3& o, const Vec3& u) {
+    Hit h;
+    const TriangleMesh& mesh = m.model()->mesh;
+    for (const auto& t : mesh.triangles) {
+        const Vec3 a = m.place(mesh.positions[t[0]]), e1 = m.place(mesh.positions[t[1]]) - a, e2 = m.place(mesh.positions[t[2]]) - a;
+        const Vec3 p = glm::cross(u, e2);
+        const double det = glm::dot(e1, p);
+        if (!(std::abs(det) > 1e-300)) continue;
+        const Vec3 s = o - a;
+        const double b1 = glm::dot(s, p) / det;
+        if (b1 < 0 || b1 > 1) continue;
+        const Vec3 q = glm::cross(s, e1);
+        const double b2 = glm::dot(u, q) / det;
+        if (b2 < 0 || b1 + b2 > 1) continue;
+        const double d = glm::dot(e2, q) / det;
+        h.entry = std::min(h.entry, d);
+        h.exit = std::max(h.exit, d);
+    }
+    return h;
+}
+
 Hit rayShape(const Shape<3>& shape, const Vec3& o, const Vec3& u) {
     return std::visit(
         [&](const auto& s) -> Hit {
@@ -80,6 +102,8 @@ Hit rayShape(const Shape<3>& shape, const Vec3& o, const Vec3& u) {
                 // The polytope's own planes (HalfSpace {normal, offset} binds as [n, h]): nothing is copied
                 // or allocated per pixel and object.
                 return rayPlanes(s.planes, o, u);
+            } else if constexpr (std::is_same_v<T, MeshSolid>) {
+                return rayMesh(s, o, u);
             } else {
                 static_assert(sizeof(T) == 0, "rgvc demo: a 3D shape without a ray test");
             }

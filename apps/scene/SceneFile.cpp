@@ -382,7 +382,7 @@ std::array<double, 4> readQuaternion(const Reader& r, const json& q, const std::
     return rot;
 }
 
-// `"shape": "mesh"`: the file read, placed and turned into its hull as an occludee (SceneMesh.cpp).
+// `"shape": "mesh"`: the file read, placed and made a MeshSolid (SceneMesh.cpp).
 Shape<3> readMesh(const Reader& r, const json& o, const std::string& f, std::optional<SceneMeshInfo>& info) {
     const json& file = r.require(o, "file", f);
     if (!file.is_string() || file.get<std::string>().empty())
@@ -405,7 +405,7 @@ Shape<3> readMesh(const Reader& r, const json& o, const std::string& f, std::opt
     SceneMeshInfo mesh;
     Shape<3> shape;
     try {
-        r.library([&] { shape = meshOccludeeShape(r.resolve(file.get<std::string>()), placement, f, mesh); });
+        r.library([&] { shape = sceneMeshShape(r.resolve(file.get<std::string>()), placement, f, mesh); });
     } catch (const MeshFileError& e) {
         r.fail(f + ".file", e.what());
     }
@@ -532,10 +532,11 @@ template <int D> std::vector<SceneObject<D>> readObjects(const Reader& r, const 
                 r.fail(f + ".role", "must be \"both\", \"occludee\" or \"occluder\", got " +
                                         (role->is_string() ? role->dump() : Reader::describe(*role)));
         }
-        // Meshes never occlude (yet): see SceneMesh.cpp for why the hull as an occludee is conservative.
+        // A closed mesh is a solid and keeps its role; an open one is a surface, which hides nothing
+        // (scene-format.md): it becomes an occludee, the file's role kept in the mesh info (SceneMesh.cpp).
         if (obj.mesh) {
             obj.mesh->requestedRole = obj.role;
-            obj.role = ObjectRole::Occludee;
+            if (!obj.mesh->closed) obj.role = ObjectRole::Occludee;
         }
         objects.push_back(std::move(obj));
     }

@@ -47,14 +47,15 @@ private:
     std::string m_file, m_field, m_problem;
 };
 
-/// What a `"shape": "mesh"` object was read from (3D only). The culler gets the mesh's convex hull as an
-/// occludee (see SceneMesh.cpp for why that is conservative); this keeps what the file said.
+/// What a `"shape": "mesh"` object was read from (3D only). The culler gets the placed mesh as a MeshSolid
+/// (grid/MeshSolid.hpp: its hull as the outer model, a closed mesh's solid voxelization as the occluder; see
+/// SceneMesh.cpp for why that is conservative); this keeps what the file said.
 struct SceneMeshInfo {
     std::string file;          ///< the path as resolved against the scene file's directory
     std::size_t triangles = 0; ///< after dropping triangles that repeat a vertex index
     std::size_t vertices = 0;
     bool closed = false;       ///< analyzeMeshTopology(welded mesh).closed(): a solid; else a surface
-    /// `role` as the file gave it (the object's `role` is always Occludee: meshes do not occlude yet).
+    /// `role` as the file gave it (the object's `role` is that for a closed mesh, Occludee for an open one).
     ObjectRole requestedRole = ObjectRole::Both;
 };
 
@@ -68,8 +69,8 @@ template <int D> struct SceneObject {
     ObjectRole role = ObjectRole::Both; ///< `role`: "both" (default), "occludee", "occluder".
     /// [World units] `occluder_inset` (an rgvc addition to the format, default 0): ObjectDesc::occluderInset.
     double occluderInset = 0;
-    /// Set for `"shape": "mesh"`: `shape` is then the ConvexPolytope of the transformed mesh's hull (or,
-    /// for a flat mesh or one of more than kMaxHullPoints vertices, a box around it) and role Occludee.
+    /// Set for `"shape": "mesh"`: `shape` is then the placed mesh (MeshSolid), and `role` Occludee when
+    /// the mesh is open.
     std::optional<SceneMeshInfo> mesh;
 
     /// The object as the culler wants it at frame 0.

@@ -1,5 +1,5 @@
-// `"shape": "mesh"` objects (scene-format.md) turned into what the culler takes today: the convex hull
-// of the placed mesh, as an occludee. Internal to the scene library (SceneFile.cpp).
+// `"shape": "mesh"` objects (scene-format.md) turned into the culler's mesh shape (MeshSolid: a closed
+// mesh occludes through its solid voxelization; see SceneMesh.cpp). Internal to the scene library.
 #pragma once
 
 #include "SceneFile.hpp"
@@ -17,11 +17,11 @@ struct MeshPlacement {
     Vec3 scale{1.0, 1.0, 1.0};                  ///< per axis, finite and non-zero
 };
 
-/// Reads `file` (readMeshFile), places it, and returns the shape the culler gets for it, filling `info`.
-/// [Limit] as readMeshFile; the hull is built from at most kMaxHullPoints distinct placed vertices (more:
-/// a box around them, see SceneMesh.cpp).
+/// Reads `file` (readMeshFile), places it (rotation and scale baked into the model) and returns it as a
+/// MeshSolid, filling `info`. [Limit] as readMeshFile; the hull is built from at most kMaxHullPoints distinct
+/// placed vertices (more, or a flat mesh: a box around them, MeshModel::hull).
 /// @throws MeshFileError for the file; InvalidInput naming `field` if the placed mesh is not usable.
-Shape<3> meshOccludeeShape(const std::string& file, const MeshPlacement& placement, const std::string& field,
-                           SceneMeshInfo& info);
+Shape<3> sceneMeshShape(const std::string& file, const MeshPlacement& placement, const std::string& field,
+                        SceneMeshInfo& info);
 
 } // namespace rgvc

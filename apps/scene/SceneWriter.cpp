@@ -5,7 +5,9 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <type_traits>
 #include <variant>
@@ -22,9 +24,13 @@ template <int D> json vec(const Vec<D>& v) {
     return a;
 }
 
+/// Where a mesh object's triangles go: writeSceneFile writes them to a file of their own and returns its
+/// name as the scene file is to give it (relative to the scene); sceneToJson has nowhere to put them (null).
+using MeshSink = std::function<std::string(ObjectId, const MeshSolid&)>;
+
 /// The shape's fields. One case per alternative of Shape<D> and no generic one: a shape added to the
 /// variant fails to compile here until the writer handles it.
-template <int D> void writeShape(json& o, const Shape<D>& shape) {
+template <int D> void writeShape(json& o, const Shape<D>& shape, ObjectId id, const std::string& field, const MeshSink& meshes) {
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
@@ -48,6 +54,14 @@ template <int D> void writeShape(json& o, const Shape<D>& shape) {
                 json pts = json::array();
                 for (const Vec3& p : s.vertices) pts.push_back(vec<3>(p));
                 o["points"] = std::move(pts);
+            } else if constexpr (std::is_same_v<T, MeshSolid>) {
+                // A mesh lives in a file (scene-format.md: `file`, relative to the scene): its placed
+                // vertices are written there, so the object needs no translation, rotation or scale.
+                if (!meshes)
+                    throw InvalidInput(field, "a mesh object needs a file of its own: writeSceneFile writes it next to the "
+                                              "scene, sceneToJson alone cannot");
+                o["shape"] = "mesh";
+                o["file"] = meshes(id, s);
             } else {
                 static_assert(sizeof(T) == 0, "sceneToJson: a Shape<D> alternative the scene writer does not handle");
             }
@@ -68,11 +82,26 @@ template <int D> json cameraJson(const Camera<D>& c) {
     return cam;
 }
 
-} // namespace
+/// The mesh as an OBJ file: its placed vertices to 17 significant digits (they read back bit for bit, so the
+/// loader rebuilds the same solid and hull), its triangles 1-based.
+void writeObj(const std::string& path, const MeshSolid& m) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    if (!out) throw SceneError(path, "file", "cannot be opened for writing");
+    out << "# rgvc scene dump: a mesh object's placed triangles\n";
+    char buf[96];
+    for (const Vec3& p : m.model()->mesh.positions) {
+        const Vec3 q = m.place(p);
+        std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", q.x, q.y, q.z);
+        out << buf;
+    }
+    for (const auto& t : m.model()->mesh.triangles) out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+    out.flush();
+    if (!out) throw SceneError(path, "file", "could not be written");
+}
 
 template <int D>
-std::string sceneToJson(const GridGeometry<D>& grid, const std::vector<ObjectDesc<D>>& objects, const Camera<D>& camera,
-                        const SceneVelocities<D>* velocities) {
+std::string sceneJson(const GridGeometry<D>& grid, const std::vector<ObjectDesc<D>>& objects, const Camera<D>& camera,
+                      const SceneVelocities<D>* velocities, const MeshSink& meshes) {
     validateCamera<D>(camera);
     json root;
     root["dimensions"] = D;
@@ -86,7 +115,7 @@ std::string sceneToJson(const GridGeometry<D>& grid, const std::vector<ObjectDes
         validateShape<D>(shape, field);
         json o;
         o["id"] = d.id;
-        writeShape<D>(o, shape);
+        writeShape<D>(o, shape, d.id, field, meshes);
         if (d.isStatic) {
             o["static"] = true;
         } else {
@@ -112,13 +141,31 @@ std::string sceneToJson(const GridGeometry<D>& grid, const std::vector<ObjectDes
     return root.dump(1) + "\n";
 }
 
+} // namespace
+
+template <int D>
+std::string sceneToJson(const GridGeometry<D>& grid, const std::vector<ObjectDesc<D>>& objects, const Camera<D>& camera,
+                        const SceneVelocities<D>* velocities) {
+    return sceneJson<D>(grid, objects, camera, velocities, nullptr);
+}
+
 template <int D> std::string sceneToJson(const Culler<D>& culler, const Camera<D>& camera, const SceneVelocities<D>* velocities) {
     return sceneToJson<D>(culler.grid(), culler.objects(), camera, velocities);
 }
 
 template <int D>
 void writeSceneFile(const std::string& path, const Culler<D>& culler, const Camera<D>& camera, const SceneVelocities<D>* velocities) {
-    const std::string text = sceneToJson<D>(culler, camera, velocities);
+    // Mesh objects: "<scene name without .json>.mesh-<id>.obj" in the scene's directory.
+    const std::size_t slash = path.find_last_of('/');
+    const std::string dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+    std::string stem = slash == std::string::npos ? path : path.substr(slash + 1);
+    if (stem.size() > 5 && stem.compare(stem.size() - 5, 5, ".json") == 0) stem.resize(stem.size() - 5);
+    const MeshSink meshes = [&](ObjectId id, const MeshSolid& m) {
+        const std::string name = stem + ".mesh-" + std::to_string(id) + ".obj";
+        writeObj(dir + name, m);
+        return name;
+    };
+    const std::string text = sceneJson<D>(culler.grid(), culler.objects(), camera, velocities, meshes);
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     if (!out) throw SceneError(path, "file", "cannot be opened for writing");
     out << text;

@@ -117,8 +117,11 @@ void normalizeSpans(std::vector<VoxelRowSpan>& s) {
 
 } // namespace
 
-void voxelizeMesh(const TriangleMesh& mesh, const IVec3& res, bool solid, bool inner, double slack,
-                  MeshVoxelization& out) {
+namespace mesh_detail {
+
+/// voxelizeMesh on positions held apart from the triangles (voxelizeMeshSolid maps them into a scratch).
+void voxelizePositions(const std::vector<Vec3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                       const IVec3& res, bool solid, bool inner, double slack, MeshVoxelization& out) {
     out.spans.clear();
     out.touchedScratch.clear();
     out.insideScratch.clear();
@@ -131,14 +134,19 @@ void voxelizeMesh(const TriangleMesh& mesh, const IVec3& res, bool solid, bool i
     const double snap = 2 * kConservativeSlack - slack;
     const double g0 = inner ? -snap : slack;
 
-    Vec3 lo, hi;
-    meshBounds(mesh, lo, hi);
+    Vec3 lo{kInf}, hi{-kInf};
+    for (const auto& t : triangles)
+        for (std::uint32_t v : t) {
+            lo = glm::min(lo, positions[v]);
+            hi = glm::max(hi, positions[v]);
+        }
+    if (triangles.empty()) return;
     const double magnitude = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y),
                                        std::abs(hi.z), 1.0});
     const double g = g0 + 1e-12 * magnitude;
 
-    for (const auto& t : mesh.triangles) {
-        const Vec3 tri[3] = {mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
+    for (const auto& t : triangles) {
+        const Vec3 tri[3] = {positions[t[0]], positions[t[1]], positions[t[2]]};
         const Vec3 tlo = glm::min(glm::min(tri[0], tri[1]), tri[2]);
         const Vec3 thi = glm::max(glm::max(tri[0], tri[1]), tri[2]);
         std::int32_t y0, y1, z0, z1;
@@ -225,6 +233,13 @@ void voxelizeMesh(const TriangleMesh& mesh, const IVec3& res, bool solid, bool i
         }
         if (x <= s.x1) out.spans.push_back({s.y, s.z, x, s.x1});
     }
+}
+
+} // namespace mesh_detail
+
+void voxelizeMesh(const TriangleMesh& mesh, const IVec3& res, bool solid, bool inner, double slack,
+                  MeshVoxelization& out) {
+    mesh_detail::voxelizePositions(mesh.positions, mesh.triangles, res, solid, inner, slack, out);
 }
 
 } // namespace rgvc

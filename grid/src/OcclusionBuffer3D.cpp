@@ -453,6 +453,10 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
         drawPolytope(*p, shrink);
         return;
     }
+    // A mesh's occluder model is its solid voxelization (MeshSolid.hpp), which the grid's O already
+    // holds: the traversal hides what is behind it. The image draws nothing for it (neither the hull,
+    // which may exceed the solid, nor the voxels): less occlusion in the image, never a wrong one.
+    if (std::holds_alternative<MeshSolid>(shape)) return;
     const Box<3>& box = std::get<Box<3>>(shape);
     const Vec3 lo = box.min + shrink - m_apex, hi = box.max - shrink - m_apex;
     for (int a = 0; a < 3; ++a)

@@ -1,11 +1,14 @@
 // libFuzzer target: arbitrary bytes -> a mesh file (.obj, .gltf or .glb, chosen by the first byte) ->
-// rgvc::meshOccludeeShape (readMeshFile, placement, validation, the hull the culler gets).
+// rgvc::sceneMeshShape (readMeshFile, placement, validation, the MeshSolid the culler gets) -> one cull.
 //
 // A MeshFileError (the file) or an InvalidInput (the placed mesh) is the one acceptable way to refuse
 // (the scene loader turns both into exit status 2 and one line); anything else that escapes (another
 // exception, a crash, a sanitizer report, a hang, a huge allocation) is a bug. A mesh that loads must be
-// usable: it passes the core's validateMesh, and the shape the culler gets passes validateShape and
-// contains every placed vertex (it must: the hull is what makes the mesh conservative).
+// usable: it passes the core's validateMesh, and the shape the culler gets passes validateShape and its
+// hull contains every placed vertex (it must: the hull is what makes the mesh conservative). Then it goes
+// through a culler once (a 24^3 grid around it, the mesh and a sphere behind it, a camera in front): the
+// mesh, alone in front of the camera, must be in the PVS; InvalidInput (a grid that the mesh's extent
+// makes unrepresentable) is the only refusal there.
 //
 // The readers take a path, so each input is written to a file in a directory of this process (the scene
 // loader's mesh files are files too; libtinygltf and tinyobjloader read from disk).
@@ -14,7 +17,10 @@
 #include "MeshFile.hpp"
 #include "SceneMesh.hpp"
 
+#include "rgvc/dynamics/Culler.hpp"
 #include "rgvc/grid/TriangleMesh.hpp"
+
+#include <algorithm>
 
 #include <cmath>
 #include <cstdint>
@@ -38,10 +44,44 @@ bool inside(const rgvc::Shape<3>& shape, const rgvc::Vec3& p) {
     const double slack = 1e-6 * (1 + std::abs(p.x) + std::abs(p.y) + std::abs(p.z));
     for (int a = 0; a < 3; ++a)
         if (p[a] < b.min[a] - slack || p[a] > b.max[a] + slack) return false;
-    if (const auto* poly = std::get_if<rgvc::ConvexPolytope>(&shape))
+    const auto* mesh = std::get_if<rgvc::MeshSolid>(&shape);
+    if (mesh == nullptr) return false;
+    if (const rgvc::ConvexPolytope* poly = &mesh->hull())
         for (const rgvc::HalfSpace& h : poly->planes)
             if (glm::dot(h.normal, p) > h.offset + poly->tolerance + slack) return false;
     return true;
+}
+
+/// The mesh in a culler once: a 24^3 grid spanning 1.5 times its bounds, the mesh (role both: a closed one
+/// occludes through its voxelization) and a sphere behind it, the camera in front looking at it.
+void cullOnce(const rgvc::Shape<3>& shape) {
+    const rgvc::Box<3> b = rgvc::boundsOf<3>(shape);
+    const rgvc::Vec3 c = 0.5 * (b.min + b.max), e = b.max - b.min;
+    const double extent = std::max({e.x, e.y, e.z});
+    if (!(extent > 0) || !std::isfinite(extent) || !std::isfinite(4 * extent + std::abs(c.x) + std::abs(c.y) + std::abs(c.z))) return;
+    try {
+        const double voxel = 4 * extent / 24;
+        rgvc::Culler3D culler(rgvc::GridGeometry3(c - 2 * extent, voxel, {24, 24, 24}));
+        rgvc::ObjectDesc<3> m;
+        m.id = 1;
+        m.shape = shape;
+        m.isStatic = true;
+        culler.addObject(m);
+        rgvc::ObjectDesc<3> ball;
+        ball.id = 2;
+        ball.shape = rgvc::Ball<3>{c + rgvc::Vec3{0, 0, 1.2 * extent}, 0.2 * extent};
+        ball.isStatic = true;
+        culler.addObject(ball);
+        rgvc::Camera3 cam;
+        cam.position = c - rgvc::Vec3{0, 0, 1.5 * extent};
+        cam.direction = {0, 0, 1};
+        cam.fovDeg = 60;
+        const rgvc::CullResult& r = culler.cull(cam);
+        if (std::find(r.pvs.begin(), r.pvs.end(), rgvc::ObjectId(1)) == r.pvs.end())
+            bug("the mesh, alone in front of the camera, is missing from the PVS");
+    } catch (const rgvc::InvalidInput&) {
+        // a grid the mesh's extent or position cannot give (too small or too far out for double voxels)
+    }
 }
 
 } // namespace
@@ -82,13 +122,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     rgvc::SceneMeshInfo info;
     rgvc::Shape<3> shape;
     try {
-        shape = rgvc::meshOccludeeShape(path, placement, "objects[0]", info);
+        shape = rgvc::sceneMeshShape(path, placement, "objects[0]", info);
     } catch (const rgvc::InvalidInput&) {
         return 0; // e.g. coordinates whose placement overflows
     } catch (const rgvc::MeshFileError& e) {
         bug(std::string("the file read once and refused the second time: ") + e.what());
     } catch (const std::exception& e) {
-        bug(std::string("meshOccludeeShape threw something unexpected: ") + e.what());
+        bug(std::string("sceneMeshShape threw something unexpected: ") + e.what());
     }
     try {
         rgvc::Shape<3> copy = shape;
@@ -107,5 +147,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             if (std::isfinite(placed.x) && std::isfinite(placed.y) && std::isfinite(placed.z) && !inside(shape, placed))
                 bug("a placed vertex lies outside the shape the culler gets for the mesh");
         }
+    cullOnce(shape);
     return 0;
 }

@@ -86,7 +86,7 @@ public:
         }
         if (m_fuse && t > 0) {
             for (std::size_t j = 0; j < m_objs.size(); ++j)
-                if (!m_objs[j].isBall) m_closed[j] = clip(m_objs[j], u, m_eps);
+                if (fusesSeams(m_objs[j])) m_closed[j] = clip(m_objs[j], u, m_eps);
             if (seamBlocked(x, t, u, m_all)) {
                 ++seamBlockedCount;
                 return false;
@@ -105,7 +105,7 @@ private:
         m_breaks.assign({0.0, t});
         for (std::size_t j : cand) {
             const Interval& c = m_closed[j];
-            if (j == x || m_objs[j].isBall || c.empty()) continue;
+            if (j == x || !fusesSeams(m_objs[j]) || c.empty()) continue;
             if (std::min(c.hi, t) - std::max(c.lo, 0.0) > minPiece) anyGrazer = true;
             if (c.lo > 0 && c.lo < t) m_breaks.push_back(c.lo);
             if (c.hi > 0 && c.hi < t) m_breaks.push_back(c.hi);
@@ -123,7 +123,7 @@ private:
             bool onBoundary = false;
             for (std::size_t k2 = 0; k2 < cand.size() && !onBoundary; ++k2) {
                 const std::size_t j = cand[k2];
-                onBoundary = j != x && !m_objs[j].isBall && m_closed[j].lo <= p && m_closed[j].hi >= q;
+                onBoundary = j != x && fusesSeams(m_objs[j]) && m_closed[j].lo <= p && m_closed[j].hi >= q;
             }
             if (!onBoundary) continue;
             double delta = std::max(10 * m_eps, std::min(1e4 * m_eps, 1e-3 * (q - p)));
@@ -135,7 +135,7 @@ private:
                 bool in = false;
                 for (std::size_t k2 = 0; k2 < cand.size() && !in; ++k2) {
                     const std::size_t j = cand[k2];
-                    in = j != x && !m_objs[j].isBall && containsPoint(m_objs[j], probe, m_eps);
+                    in = j != x && fusesSeams(m_objs[j]) && containsPoint(m_objs[j], probe, m_eps);
                 }
                 all = in;
             }
@@ -272,6 +272,9 @@ Outline outlineOf(const Obj& o, double eps) {
     }
     if (o.isPoly) { // its outline is made of arcs of its edges' fans (all taken: a superset)
         for (const auto& e : o.edges) addArc(out.arcs, o.verts[e[0]], o.verts[e[1]]);
+        // A mesh as a blocker: its silhouette is made of its own edges (a concave mesh's are not all on
+        // the hull), so all of them join too.
+        for (const auto& e : o.meshEdges) addArc(out.arcs, o.meshVerts[e[0]], o.meshVerts[e[1]]);
         return out;
     }
     auto corner = [&](int bits) { return Vec3{bits & 1 ? o.hi.x : o.lo.x, bits & 2 ? o.hi.y : o.lo.y, bits & 4 ? o.hi.z : o.lo.z}; };
@@ -488,11 +491,12 @@ std::vector<bool> visible3D(const std::vector<Shape<3>>& objects, const Camera3&
             crossings(outlines[x], frustum, dirs);
             for (std::size_t y = x + 1; y < n; ++y)
                 if (possible[y] && conesOverlap(outlines[x].bound, outlines[y].bound)) crossings(outlines[x], outlines[y], dirs);
-            if (objs[x].isPoly)
-                for (const Vec3& v : objs[x].verts) {
+            if (objs[x].isPoly) {
+                for (const Vec3& v : objs[x].verts)
                     if (lengthSquared<3>(v) > 0) dirs.push_back(normalized(v));
-                }
-            else if (!objs[x].isBall)
+                for (const Vec3& v : objs[x].meshVerts)
+                    if (lengthSquared<3>(v) > 0) dirs.push_back(normalized(v));
+            } else if (!objs[x].isBall)
                 for (int c = 0; c < 8; ++c) {
                     Vec3 p{c & 1 ? objs[x].hi.x : objs[x].lo.x, c & 2 ? objs[x].hi.y : objs[x].lo.y, c & 4 ? objs[x].hi.z : objs[x].lo.z};
                     if (lengthSquared<3>(p) > 0) dirs.push_back(normalized(p));

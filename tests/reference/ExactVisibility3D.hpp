@@ -64,6 +64,14 @@
 // their edges' arcs in the outlines, their vertices as critical rays; flat faces take part in the seam rule
 // like box faces.
 //
+// Triangle meshes (MeshSolid) are two things, as in the culler (MeshSolid.hpp's separate models): as the
+// object seen, their hull (a polytope as above: what the culler reports is a superset of the mesh's own
+// visibility, and the reference checks that superset); as a blocker, a closed mesh's solid: a ray is
+// blocked where it runs inside the solid's interior for more than 2*eps of its length (MeshInterior3D.cpp:
+// watertight crossing counts, so a ray through an edge or vertex counts its crossing once; a line whose
+// crossings do not pair up is not blocked). An open mesh blocks nothing. Meshes take no part in the seam
+// rule (it only hides more). Their edges join the outlines and their vertices the critical rays.
+//
 // Tolerances (one length eps, world units; default 1e-12 times the scene's largest coordinate or radius,
 // camera included; see sceneEpsilon3D): floating point may only make the reference report MORE visible
 // objects: targets are grown by eps (a ray passing within eps of X hits X), blockers are shrunk by eps (a

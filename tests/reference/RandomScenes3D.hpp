@@ -22,6 +22,7 @@
 #pragma once
 
 #include "SeededRandom.hpp"
+#include "TestMeshes.hpp"
 #include "rgvc/dynamics/Culler.hpp"
 #include "rgvc/grid/Camera.hpp"
 #include "rgvc/grid/GridGeometry.hpp"
@@ -52,6 +53,10 @@ struct SceneOptions3D {
     /// axis-aligned on voxel faces next to boxes), a thin turned wall, or a hull of 4 to 16 points.
     /// 0 (the default) leaves the scenes of every seed exactly as they were before polytopes existed.
     double polytopeProbability = 0;
+    /// Probability that an object is a closed triangle mesh (TestMeshes.hpp: a box, an L, a U, a ring, an
+    /// octahedron; turned unless snapped): an occluder through its solid voxelization. 0 (the default)
+    /// leaves the scenes of every seed as they were.
+    double meshProbability = 0;
 };
 
 struct Scene3D {
@@ -329,7 +334,12 @@ inline Scene3D randomScene3D(std::uint64_t seed, const SceneOptions3D& opt = {})
     while (int(shapes.size()) < count) {
         // Centres up to 10% beyond the grid on each side: some objects lie partly or wholly outside.
         Vec3 c{uniform(rng, -0.1 * r.x, 1.1 * r.x), uniform(rng, -0.1 * r.y, 1.1 * r.y), uniform(rng, -0.1 * r.z, 1.1 * r.z)};
-        if (opt.polytopeProbability > 0 && chance(rng, opt.polytopeProbability))
+        if (opt.meshProbability > 0 && chance(rng, opt.meshProbability)) {
+            const double size = logUniform(rng, scene.snapped ? 2.0 : 0.5, std::max(std::min({r.x, r.y, r.z}) / 2, 3.0));
+            TriangleMesh m = randomMeshTriangles(rng, c, size, scene.snapped);
+            for (Vec3& p : m.positions) p = pl.world(p);
+            shapes.push_back(meshShape(std::move(m)));
+        } else if (opt.polytopeProbability > 0 && chance(rng, opt.polytopeProbability))
             addPolytope(rng, pl, scene.snapped, c, std::min({r.x, r.y, r.z}) / 3, shapes);
         else
             addObjects(rng, pl, scene.snapped, c, std::min({r.x, r.y, r.z}) / 3, shapes);
@@ -394,9 +404,11 @@ inline std::string toJson(const GridGeometry3& grid, const std::vector<ObjectDes
             s += "\"shape\": \"sphere\", \"center\": " + vec(b->center) + ", \"radius\": " + num(b->radius);
         else if (const auto* x = std::get_if<Box<3>>(&o.shape))
             s += "\"shape\": \"box\", \"min\": " + vec(x->min) + ", \"max\": " + vec(x->max);
-        else { // a polytope (obb or hull) as the hull of its vertices: the same shape
+        else { // a polytope (obb or hull) as the hull of its vertices: the same shape; a mesh as its hull
+            // (a mesh needs a file: the replayed scene then has the mesh's outer model only)
             s += "\"shape\": \"hull\", \"points\": [";
-            const auto& p = std::get<ConvexPolytope>(o.shape);
+            const auto* mesh = std::get_if<MeshSolid>(&o.shape);
+            const auto& p = mesh != nullptr ? mesh->hull() : std::get<ConvexPolytope>(o.shape);
             for (std::size_t k = 0; k < p.vertices.size(); ++k) s += (k ? ", " : "") + vec(p.vertices[k]);
             s += "]";
         }

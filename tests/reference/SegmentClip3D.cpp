@@ -19,8 +19,23 @@ Obj prepare(const Shape<3>& shape, const Vec3& cam) {
         o.hi = x->max - cam;
     } else {
         // A polytope: taken as its vertices' hull with its planes (the library's two representations agree
-        // to within its tolerance, ~1e-15 of the extent, far below eps).
-        const ConvexPolytope& p = std::get<ConvexPolytope>(shape);
+        // to within its tolerance, ~1e-15 of the extent, far below eps). A mesh: its hull, and its triangles.
+        const MeshSolid* mesh = std::get_if<MeshSolid>(&shape);
+        const ConvexPolytope& p = mesh != nullptr ? mesh->hull() : std::get<ConvexPolytope>(shape);
+        if (mesh != nullptr) {
+            o.isMesh = true;
+            o.meshClosed = mesh->closed();
+            const TriangleMesh& m = mesh->model()->mesh;
+            for (const Vec3& v : m.positions) o.meshVerts.push_back(mesh->place(v) - cam);
+            o.meshTris = m.triangles;
+            for (const auto& t : m.triangles)
+                for (int k = 0; k < 3; ++k) {
+                    const std::uint32_t a = t[std::size_t(k)], b = t[std::size_t((k + 1) % 3)];
+                    o.meshEdges.push_back({std::min(a, b), std::max(a, b)});
+                }
+            std::sort(o.meshEdges.begin(), o.meshEdges.end());
+            o.meshEdges.erase(std::unique(o.meshEdges.begin(), o.meshEdges.end()), o.meshEdges.end());
+        }
         o.isPoly = true;
         o.lo = p.boundsMin - cam;
         o.hi = p.boundsMax - cam;
@@ -37,6 +52,7 @@ Obj prepare(const Shape<3>& shape, const Vec3& cam) {
 // points deeper than -off inside it.
 Interval clip(const Obj& o, const Vec3& u, double off) {
     if (o.isBall) return clipBall<3>(o.center, o.radius, u, off);
+    if (o.isMesh && off < 0) return meshInterior(o, u, -off);
     double lo = -kInf, hi = kInf;
     if (o.isPoly) {
         for (const HalfSpace& h : o.planes) {

@@ -38,7 +38,19 @@ struct Obj {
     std::vector<Vec3> verts;
     std::vector<std::array<std::uint32_t, 2>> edges;
     std::vector<std::array<std::uint32_t, 3>> tris;
+    // A triangle mesh (MeshSolid): the fields above hold its hull (isPoly), which is what it is as the
+    // object seen (its outer model, as the culler takes it: a superset of the mesh's own visibility); as a
+    // blocker it is its solid (clip with off < 0 goes to meshInterior). It takes no part in the seam rule
+    // (fusesSeams): that rule only hides more, so leaving meshes out only reports more.
+    bool isMesh = false;
+    bool meshClosed = false;
+    std::vector<Vec3> meshVerts;
+    std::vector<std::array<std::uint32_t, 3>> meshTris;
+    std::vector<std::array<std::uint32_t, 2>> meshEdges; // every edge once
 };
+
+/// Whether o takes part in the seam rule (flat faces that can be shared: boxes and polytopes).
+inline bool fusesSeams(const Obj& o) { return !o.isBall && !o.isMesh; }
 
 /// The shape, camera-relative (cam: the camera position, world units).
 Obj prepare(const Shape<3>& shape, const Vec3& cam);
@@ -47,7 +59,13 @@ Obj prepare(const Shape<3>& shape, const Vec3& cam);
 /// off < 0 keeps only points deeper than -off inside it.
 Interval clip(const Obj& o, const Vec3& u, double off);
 
-/// Whether camera-relative point q lies within `off` of o (off < 0: deeper than -off inside it).
+/// The first interval of parameters t (the one with the smallest start among those ending after 0) where
+/// the line t*u runs inside the interior of mesh o's solid, shrunk by eta at both ends; empty when there is
+/// none, for an open mesh, or when the line's crossings do not pair up. See MeshInterior3D.cpp.
+Interval meshInterior(const Obj& o, const Vec3& u, double eta);
+
+/// Whether camera-relative point q lies within `off` of o (off < 0: deeper than -off inside it). A mesh
+/// is taken as its hull here (the test is only asked of the object seen, and of seam-rule objects).
 bool containsPoint(const Obj& o, const Vec3& q, double off);
 
 // The camera's frame and its view region, camera-relative.

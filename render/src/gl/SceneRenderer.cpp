@@ -301,6 +301,11 @@ void SceneRenderer::updateExtent(const Instance& inst) {
 void SceneRenderer::setObject(ObjectId id, const Shape<3>& shape) {
     Shape<3> s = shape;
     validateShape<3>(s, [&] { return "object " + std::to_string(id); });
+    // Triangle meshes are not drawn (yet): drawing their hull would write depth where the mesh has none
+    // (a concave mesh's notch) and cull what is seen through it. Callers keep them out, as they keep
+    // occludees (rgvc cull --gl does: the CPU's mesh occluders already hid what is behind them).
+    if (std::holds_alternative<MeshSolid>(s))
+        throw InvalidInput("object " + std::to_string(id) + ".shape", "the GL stage does not draw meshes: keep mesh objects out of it");
     const Box<3> bounds = boundsOf<3>(s);
     anchorAt(0.5 * (bounds.min + bounds.max));
     bool added = false;

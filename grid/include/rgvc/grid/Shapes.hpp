@@ -1,5 +1,6 @@
 // Object shapes: balls (circle in 2D, sphere in 3D), axis-aligned boxes, in 2D convex polygons and in
-// 3D convex polytopes (hulls of points and oriented boxes, ConvexPolytope.hpp).
+// 3D convex polytopes (hulls of points and oriented boxes, ConvexPolytope.hpp) and triangle meshes
+// (MeshSolid.hpp: the convex hull as the outer model, a closed mesh's solid voxelization as the inner one).
 //
 // Shapes are closed sets. They are given in world units at the API boundary and converted once to
 // voxel units (`toLocal`) before rasterization. §5.1 of the paper reduces any other 3D shape to an
@@ -8,13 +9,16 @@
 //
 // Adding an alternative: every visit below ends in `static_assert(kUnhandledShape<T>)`, so the compiler
 // lists each dispatch point that does not know the new shape yet (also in ConservativeRaster.hpp,
-// OcclusionBuffer3D.cpp and the GL stage).
+// OcclusionBuffer3D.cpp and the GL stage). Points that test a shape with std::get_if fall through to
+// their last branch for a new shape: MeshSolid was added by giving each of those an explicit branch (the
+// hull, MeshSolid::hull(), everywhere but O).
 #pragma once
 
 #include "rgvc/grid/ConvexPolytope.hpp"
 #include "rgvc/grid/Error.hpp"
 #include "rgvc/grid/GridGeometry.hpp"
 #include "rgvc/grid/Math.hpp"
+#include "rgvc/grid/MeshSolid.hpp"
 
 #include <algorithm>
 #include <string>
@@ -44,7 +48,7 @@ struct ConvexPolygon {
 
 template <int D> struct ShapeTypes;
 template <> struct ShapeTypes<2> { using type = std::variant<Ball<2>, Box<2>, ConvexPolygon>; };
-template <> struct ShapeTypes<3> { using type = std::variant<Ball<3>, Box<3>, ConvexPolytope>; };
+template <> struct ShapeTypes<3> { using type = std::variant<Ball<3>, Box<3>, ConvexPolytope, MeshSolid>; };
 /// Any shape of a D-dimensional scene.
 template <int D> using Shape = typename ShapeTypes<D>::type;
 
@@ -67,6 +71,8 @@ inline Box<2> boundsOf(const ConvexPolygon& p) {
 }
 /// The exact bounding box of the points the polytope was built from.
 inline Box<3> boundsOf(const ConvexPolytope& p) { return {p.boundsMin, p.boundsMax}; }
+/// Its hull's (which contains the mesh: MeshSolid.hpp).
+inline Box<3> boundsOf(const MeshSolid& m) { return boundsOf(m.hull()); }
 template <int D> inline Box<D> boundsOf(const Shape<D>& s) {
     return std::visit([](const auto& x) { return boundsOf(x); }, s);
 }
@@ -89,6 +95,7 @@ inline Ball<3> boundingBall(const ConvexPolytope& p) {
     r.radius += p.tolerance;
     return r;
 }
+inline Ball<3> boundingBall(const MeshSolid& m) { return boundingBall(m.hull()); }
 template <int D> inline Ball<D> boundingBall(const Shape<D>& s) {
     return std::visit([](const auto& x) { return boundingBall(x); }, s);
 }
@@ -101,6 +108,7 @@ inline ConvexPolygon translated(const ConvexPolygon& p, const Vec2& t) {
     return r;
 }
 inline ConvexPolytope translated(const ConvexPolytope& p, const Vec3& t) { return translatedPolytope(p, t); }
+inline MeshSolid translated(const MeshSolid& m, const Vec3& t) { return m.translated(t); }
 template <int D> inline Shape<D> translated(const Shape<D>& s, const Vec<D>& t) {
     return std::visit([&](const auto& x) -> Shape<D> { return translated(x, t); }, s);
 }
@@ -122,6 +130,8 @@ template <int D> inline Shape<D> toLocal(const Shape<D>& s, const GridGeometry<D
             } else if constexpr (std::is_same_v<T, ConvexPolytope>) {
                 // The same map as GridGeometry::toLocal: (x - origin) / voxel size.
                 return scaledPolytope(x, grid.origin(), grid.toLocalLength(1.0));
+            } else if constexpr (std::is_same_v<T, MeshSolid>) {
+                return x.mapped(grid.origin(), grid.toLocalLength(1.0)); // the same map, mesh and hull
             } else {
                 static_assert(kUnhandledShape<T>);
             }
@@ -167,6 +177,8 @@ template <int D, class Field> inline void validateShape(Shape<D>& s, const Field
                         throw InvalidInput(shape_detail::fieldText(field) + ".max", "must exceed min on every axis");
             } else if constexpr (std::is_same_v<T, ConvexPolytope>) {
                 validatePolytope(x, shape_detail::fieldText(field));
+            } else if constexpr (std::is_same_v<T, MeshSolid>) {
+                validateMeshSolid(x, shape_detail::fieldText(field));
             } else if constexpr (std::is_same_v<T, ConvexPolygon>) {
                 const std::size_t n = x.points.size();
                 if (n < 3) throw InvalidInput(shape_detail::fieldText(field) + ".points", "a polygon needs at least 3 points");
@@ -223,7 +235,8 @@ template <int D, class Field> inline void validateShape(Shape<D>& s, const Field
 /// Ball: radius - d. Box: every face moved in by d. Convex polygon (counter-clockwise, as validateShape
 /// leaves it): the original clipped by every edge's half-plane moved in by d (Sutherland-Hodgman), so
 /// edges that vanish are dropped exactly. Convex polytope: every plane moved in by d, its vertices
-/// recomputed (erodePolytope).
+/// recomputed (erodePolytope). Mesh: no erosion of a mesh is computed, so a positive inset leaves nothing
+/// (the mesh then occludes nothing: sound, and its hull stays the outer model).
 /// [Units] d in the shape's units. [Limit] d finite, >= 0.
 /// @return false when nothing is left (the shape then occludes nothing); `out` is only written on true.
 template <int D> inline bool insetShape(const Shape<D>& s, double d, Shape<D>& out) {
@@ -249,6 +262,8 @@ template <int D> inline bool insetShape(const Shape<D>& s, double d, Shape<D>& o
                 if (!erodePolytope(x, d, r)) return false;
                 out = std::move(r);
                 return true;
+            } else if constexpr (std::is_same_v<T, MeshSolid>) {
+                return false;
             } else if constexpr (std::is_same_v<T, ConvexPolygon>) {
                 const std::size_t n = x.points.size();
                 std::vector<Vec2> poly = x.points, next;

@@ -86,6 +86,7 @@ struct MeshVoxelization {
     };
     std::vector<Crossing> crossings;
     std::vector<std::int64_t> uncertainRows;
+    std::vector<Vec3> placed; ///< voxelizeMeshSolid's mapped positions
 };
 
 /// Conservative voxelization of a mesh given in voxel units, clipped to the grid [0, resolution).

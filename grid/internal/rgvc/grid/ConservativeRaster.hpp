@@ -166,7 +166,9 @@ void ballRows(const Vec<D>& c, double budget, const IVec<D>& lo, const IVec<D>& 
 }
 
 /// Calls rowFn(IVec<D> row, x0, x1) (row.x = 0) for the non-empty x span of every row of the footprint,
-/// rows in increasing linear order. Each row holds one span: every shape here is convex.
+/// rows in increasing linear order. Each row holds one span (every shape here is convex), except a mesh's
+/// inner voxels (its solid voxelization, MeshSolid.hpp): spans ascending and disjoint, several per row
+/// where the solid is concave. A mesh's touched voxels are its hull's (the outer model).
 template <int D, bool kInner, class RowFn>
 void rasterize(const Shape<D>& local, const IVec<D>& res, RowFn&& rowFn, double slack) {
     Box<D> bounds = boundsOf<D>(local);
@@ -259,7 +261,21 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, RowFn&& rowFn, double 
                         return true;
                     },
                     rowFn);
-            } else if constexpr (std::is_same_v<T, ConvexPolytope>) {
+            } else if constexpr (std::is_same_v<T, ConvexPolytope> || std::is_same_v<T, MeshSolid>) {
+                if constexpr (std::is_same_v<T, MeshSolid> && kInner) {
+                    // O: only voxels entirely inside the closed solid (MeshVoxelize.cpp derives the rule).
+                    for (const VoxelRowSpan& sp : meshInnerSpans(s, res, slack)) {
+                        IVec<D> row{0};
+                        row.y = sp.y;
+                        row.z = sp.z;
+                        rowFn(row, sp.x0, sp.x1);
+                    }
+                    return;
+                }
+                const ConvexPolytope* pp = nullptr;
+                if constexpr (std::is_same_v<T, MeshSolid>) pp = &s.hull();
+                else pp = &s;
+                const ConvexPolytope& p = *pp;
                 // PolytopeRaster.hpp derives both rules.
                 forEachRow<3>(
                     lo, hi,
@@ -267,24 +283,24 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, RowFn&& rowFn, double 
                         double xl, xr;
                         if constexpr (kInner) {
                             const double snap = 2 * kConservativeSlack - slack; // as innerRange snaps faces
-                            const double grow = snap - s.tolerance;
+                            const double grow = snap - p.tolerance;
                             xl = -std::numeric_limits<double>::infinity();
                             xr = -xl;
                             for (double y : {double(row.y), row.y + 1.0})
                                 for (double z : {double(row.z), row.z + 1.0}) {
                                     double l, r;
-                                    if (!polytopeChord(s, y, z, grow, l, r)) return false;
+                                    if (!polytopeChord(p, y, z, grow, l, r)) return false;
                                     xl = std::max(xl, l);
                                     xr = std::min(xr, r);
                                 }
                             if (!(xl <= xr)) return false;
                             innerRange(xl, xr, res.x, a, b, slack);
                         } else {
-                            const double g = slack + s.tolerance;
-                            if (!polytopeSlabExtent(s, row.y - g, row.y + 1.0 + g, row.z - g, row.z + 1.0 + g, g, xl, xr))
+                            const double g = slack + p.tolerance;
+                            if (!polytopeSlabExtent(p, row.y - g, row.y + 1.0 + g, row.z - g, row.z + 1.0 + g, g, xl, xr))
                                 return false;
                             const double rounding = 1e-12 * (std::abs(xl) + std::abs(xr));
-                            touchedRange(xl - rounding - s.tolerance, xr + rounding + s.tolerance, res.x, a, b, slack);
+                            touchedRange(xl - rounding - p.tolerance, xr + rounding + p.tolerance, res.x, a, b, slack);
                         }
                         return true;
                     },

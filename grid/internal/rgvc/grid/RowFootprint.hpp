@@ -10,6 +10,15 @@
 //
 // Why cached: the culler keeps each object's footprint while the object is in I and O, so a move
 // rasterizes only the new placement, and a removal takes out exactly the voxels that were put in.
+//
+// Several spans per row (a concave mesh's O, MeshSolid.hpp). The I part always has one span per row (a
+// mesh's I is its convex hull's); the O part may hold several, ascending and disjoint. diff() then pairs
+// the spans of a row in order and treats the unpaired ones as wholly gone or come. That is still exact
+// for O, which holds counts (addOpaque +-1): per voxel v, a paired (A, B) contributes [v in B] - [v in A]
+// (gone(A \ B), came(B \ A)), an unpaired A -[v in A], an unpaired B +[v in B]; summed over the row that
+// is (new count of v) - (old count of v), because each side's spans are disjoint. No count goes below
+// zero on the way: v is taken out at most once per old span holding it, while that span's +1 is still
+// in. (For I, which holds id sets, pairing would not be exact; one span per row keeps it exact there.)
 #pragma once
 
 #include "rgvc/grid/ConservativeRaster.hpp"
@@ -112,7 +121,7 @@ private:
     }
 
     /// Calls gone(k) for the voxels of [a, aEnd) not in [b, bEnd) and came(k) for the converse; both are
-    /// sorted by row with one span per row. On a row held by both, with old span [a0, a1] and new [b0, b1],
+    /// sorted by row with one span per row (for O, several are allowed: see the file comment). On a row held by both, with old span [a0, a1] and new [b0, b1],
     /// old \ new = [a0, min(a1, b0 - 1)] u [max(a0, b1 + 1), a1] (either part may be empty; disjoint spans
     /// leave all of [a0, a1] in exactly one part), and symmetrically for new \ old.
     /// cameRun(row, x0, x1) is called once for every non-empty run of came() calls.
