@@ -51,7 +51,7 @@ build_fuzzers() {
     cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
       -DCMAKE_CXX_COMPILER=clang++ -DRGVC_BUILD_FUZZERS=ON
   fi
-  cmake --build "$build" -j"$jobs" --target fuzz_scene_loader fuzz_culler2d fuzz_culler3d
+  cmake --build "$build" -j"$jobs" --target fuzz_scene_loader fuzz_culler2d fuzz_culler3d fuzz_mesh_file
   mkdir -p "$build/tests/fuzz/artifacts"
 }
 

@@ -266,8 +266,8 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, RowFn&& rowFn, double 
                     // O: only voxels entirely inside the closed solid (MeshVoxelize.cpp derives the rule).
                     for (const VoxelRowSpan& sp : meshInnerSpans(s, res, slack)) {
                         IVec<D> row{0};
-                        row.y = sp.y;
-                        row.z = sp.z;
+                        row[1] = sp.y;
+                        row[D - 1] = sp.z; // D == 3 here; indexed, not .z, so that clang accepts D = 2's discarded branch
                         rowFn(row, sp.x0, sp.x1);
                     }
                     return;
