@@ -457,6 +457,17 @@ TEST_CASE("MeshSolid: the model, its hull, placements, validation and the inset"
     Shape<3> out;
     CHECK_FALSE(insetShape<3>(Shape<3>(m), 0.1, out));
     CHECK(insetShape<3>(Shape<3>(m), 0.0, out));
+    // A triangle that welding makes degenerate (two indices at one position) still counts for the hull: its
+    // third vertex, used by no other triangle, lies in it (fuzz_mesh_file found a mesh that lost it); the
+    // segment takes no part in the topology, so the cube stays closed.
+    TriangleMesh seg = cube;
+    const std::uint32_t copy = std::uint32_t(seg.positions.size());
+    seg.positions.push_back(seg.positions[0]);
+    seg.positions.push_back({9, 9, 9});
+    seg.triangles.push_back({0, copy, copy + 1});
+    const auto segModel = makeMeshModel(seg, "s");
+    CHECK(segModel->closed());
+    CHECK(segModel->hull.boundsMax == Vec3(9, 9, 9));
     // A flat mesh (one triangle) still gets a hull with an interior: its grown bounding box.
     TriangleMesh tri;
     tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};

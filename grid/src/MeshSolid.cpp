@@ -49,13 +49,15 @@ ConvexPolytope hullOf(const TriangleMesh& mesh, const std::string& field) {
 std::shared_ptr<const MeshModel> makeMeshModel(TriangleMesh mesh, const std::string& field) {
     validateMesh(mesh, field + ".mesh");
     weldMeshVertices(mesh); // file formats split vertices at seams: closedness needs them merged
-    // Welding can give a triangle two equal indices (distinct indices at one position): a segment, with
-    // no area and no part in the winding number; dropped so that the topology sees only real triangles.
-    std::erase_if(mesh.triangles, [](const auto& t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; });
-    if (mesh.triangles.empty()) throw InvalidInput(field + ".mesh", "every triangle is degenerate once equal vertices are merged");
     auto m = std::make_shared<MeshModel>();
-    m->topology = analyzeMeshTopology(mesh);
+    // The hull holds every triangle, degenerate ones included (a segment is part of the object too).
     m->hull = hullOf(mesh, field);
+    // Welding can give a triangle two equal indices (distinct indices at one position): a segment, with no
+    // area and no part in the winding number; dropped so that the topology and the voxelizer see only real
+    // triangles (kept when nothing else is left: such a mesh is open either way).
+    const auto degenerate = [](const auto& t) { return t[0] == t[1] || t[1] == t[2] || t[2] == t[0]; };
+    if (!std::all_of(mesh.triangles.begin(), mesh.triangles.end(), degenerate)) std::erase_if(mesh.triangles, degenerate);
+    m->topology = analyzeMeshTopology(mesh);
     m->mesh = std::move(mesh);
     return m;
 }

@@ -94,6 +94,8 @@ double OrthoOcclusionImage::entryAt(const Shape<3>& s, double slack, double u, d
                     t0 = std::max(t0, u0);
                     t1 = std::min(t1, u1);
                 }
+            } else if constexpr (std::is_same_v<T, MeshSolid>) {
+                return kInf; // never drawn (see draw)
             } else {
                 for (const HalfSpace& hs : x.planes) {
                     const double nd = glm::dot(hs.normal, f);
@@ -193,6 +195,9 @@ bool OrthoOcclusionImage::unionCovers(const Drawn& a, const Drawn& b, int col, i
 
 void OrthoOcclusionImage::draw(const Shape<3>& occluder, double slack) {
     if (m_cols == 0) return;
+    // A mesh's occluder is its solid voxelization, already in O (MeshSolid.hpp): the image draws nothing
+    // for it, as the perspective image does (less occlusion here, never a wrong one).
+    if (std::holds_alternative<MeshSolid>(occluder)) return;
     const Box<3> b = boundsOf<3>(occluder);
     int c0, c1, r0, r1;
     if (!footprint(b.min, b.max, 0.0, c0, c1, r0, r1)) return;

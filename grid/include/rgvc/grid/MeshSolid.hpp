@@ -37,9 +37,11 @@ namespace rgvc {
 
 /// An immutable mesh ready to be placed: made by makeMeshModel only (so its invariants hold).
 struct MeshModel {
-    TriangleMesh mesh;     ///< welded (weldMeshVertices) and validated (validateMesh); model units
+    /// Validated (validateMesh), welded (weldMeshVertices), then without the triangles welding made
+    /// degenerate (two equal indices: segments, no area) unless nothing else is left; model units.
+    TriangleMesh mesh;
     MeshTopology topology; ///< analyzeMeshTopology(mesh)
-    /// Contains every triangle: the convex hull of the referenced vertices, or, when they are flat or more
+    /// Contains every triangle (the dropped degenerate ones too): the convex hull of the referenced vertices, or, when they are flat or more
     /// than kMaxHullPoints, their bounding box grown by 1e-7 of the coordinates' magnitude (as a polytope).
     ConvexPolytope hull;
     bool closed() const { return topology.closed(); }
