@@ -96,12 +96,35 @@ std::vector<std::vector<rgvc::ObjectId>> viewsExample() {
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <vector>
 
 // A small 3D game loop: a street of buildings (boxes, a turned tower as an oriented box, a rock as a
-// convex hull) that hide what is behind them, a glass shop window that hides nothing, 200 movers, and two
-// views per frame (the player, and a security camera) culled in one call.
+// convex hull, an L-shaped hall as a closed triangle mesh) that hide what is behind them, a glass shop
+// window that hides nothing, 200 movers, and two views per frame (the player, and a security camera)
+// culled in one call.
+
+// A closed prism over a polygon outline in the ground plane (x, z), from y = 0 to y = height: a fan from
+// outline[0] for the roof and the floor (the outline must be star-shaped from it), two triangles per wall.
+// Any consistent winding is a solid for rgvc (the winding number is +1 or -1 inside).
+rgvc::TriangleMesh prism(const std::vector<rgvc::Vec2>& outline, double height) {
+    rgvc::TriangleMesh m;
+    const auto n = std::uint32_t(outline.size());
+    for (const rgvc::Vec2& p : outline) m.positions.push_back({p.x, 0, p.y});      // floor: 0 .. n-1
+    for (const rgvc::Vec2& p : outline) m.positions.push_back({p.x, height, p.y}); // roof: n .. 2n-1
+    for (std::uint32_t i = 1; i + 1 < n; ++i) {
+        m.triangles.push_back({n, n + i, n + i + 1}); // roof
+        m.triangles.push_back({0, i + 1, i});         // floor, the other way round
+    }
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const std::uint32_t j = (i + 1) % n;
+        m.triangles.push_back({i, j, n + j});
+        m.triangles.push_back({i, n + j, n + i});
+    }
+    return m;
+}
+
 struct Game {
     rgvc::Culler3D culler{rgvc::GridGeometry3({0, 0, 0}, 1.0, {128, 32, 128})};
     std::vector<rgvc::Vec3> moverAt, moverVelocity;
@@ -119,6 +142,10 @@ struct Game {
                           .isStatic = true});
         const std::array<rgvc::Vec3, 5> rock = {{{30, 0, 20}, {36, 0, 21}, {33, 0, 26}, {33, 5, 22}, {31, 1, 23}}};
         culler.addObject({.id = 11, .shape = rgvc::makeConvexHull(rock, "rock"), .isStatic = true});
+        // An L-shaped hall as a closed mesh (from a level file, in a game): its solid voxels hide what is
+        // behind it, its convex hull is where it may be seen. Its notch hides nothing.
+        const std::vector<rgvc::Vec2> hall = {{14, 24}, {26, 24}, {26, 28}, {19, 28}, {19, 34}, {14, 34}};
+        culler.addObject({.id = 13, .shape = rgvc::MeshSolid(rgvc::makeMeshModel(prism(hall, 10), "hall")), .isStatic = true});
         // A shop window: reported when seen, never hides what is behind it.
         culler.addObject({.id = 12, .shape = rgvc::Box<3>{{60, 0, 30}, {70, 6, 30.5}}, .isStatic = true,
                           .role = rgvc::ObjectRole::Occludee});
@@ -196,6 +223,8 @@ TEST_CASE("the README game example: buildings hide the movers behind them, the g
     for (int b = 0; b < 6; ++b) occluders.push_back({{8.0 + 20 * b, 0, 40}, {24.0 + 20 * b, 24, 56}});
     occluders.push_back({{50, 0, 67}, {78, 28, 93}}); // the tower's bounds (half extents 10 x 14 x 3, turned)
     occluders.push_back({{30, 0, 20}, {36, 5, 26}});  // the rock's bounds
+    occluders.push_back({{14, 0, 24}, {26, 10, 28}}); // the hall: its L is these two boxes, not its hull
+    occluders.push_back({{14, 0, 28}, {19, 10, 34}});
     auto crosses = [](const rgvc::Box<3>& b, const rgvc::Vec3& from, const rgvc::Vec3& to) {
         for (int k = 1; k < 800; ++k) {
             const rgvc::Vec3 p = from + (to - from) * (k / 800.0);
@@ -205,7 +234,7 @@ TEST_CASE("the README game example: buildings hide the movers behind them, the g
     };
     const rgvc::Vec3 eye{10.0 + 0.2 * 29, 1.7, 5};
     const rgvc::Vec3 d = rgvc::Vec3{0.3, 0, 1} / std::sqrt(1.09);
-    std::size_t visible = 0, behind = 0, behindCulled = 0;
+    std::size_t visible = 0, behind = 0, behindCulled = 0, behindHall = 0, behindHallCulled = 0;
     for (std::size_t i = 0; i < game.moverAt.size(); ++i) {
         const rgvc::Vec3 c = game.moverAt[i];
         const rgvc::ObjectId id = Game::kFirstMover + rgvc::ObjectId(i);
@@ -227,10 +256,23 @@ TEST_CASE("the README game example: buildings hide the movers behind them, the g
             ++behind;
             behindCulled += !inPvs(id);
         }
+        // The same for the hall's solid, behind either arm of its L.
+        bool hiddenByHall = false;
+        for (std::size_t b = occluders.size() - 2; b < occluders.size(); ++b)
+            hiddenByHall = hiddenByHall || (crosses(occluders[b], eye, c) && crosses(occluders[b], eye, c + rgvc::Vec3{0, 1, 0}) &&
+                                            crosses(occluders[b], eye, c - rgvc::Vec3{0, 1, 0}));
+        if (hiddenByHall && (c - eye).z > 0) {
+            ++behindHall;
+            behindHallCulled += !inPvs(id);
+        }
     }
-    INFO("visible " << visible << ", behind a building " << behind << ", of them culled " << behindCulled);
+    INFO("visible " << visible << ", behind a building " << behind << ", of them culled " << behindCulled
+                    << "; behind the hall " << behindHall << ", culled " << behindHallCulled);
     CHECK(visible > 0);
     CHECK(behind > 10);
     CHECK(behindCulled * 10 >= behind * 8);
+    CHECK(inPvs(13)); // the hall, right in front of the player
+    CHECK(behindHall >= 3);
+    CHECK(behindHallCulled * 10 >= behindHall * 8);
     CHECK(gameExample() > 0);
 }
