@@ -104,7 +104,9 @@ const char* toString(ObjectRole r);
 
 template <int D> struct ObjectDesc {
     ObjectId id = 0;
-    Shape<D> shape;        ///< [World units] current placement.
+    /// [World units] current placement. A triangle mesh (MeshSolid, 3D) is its own two models: its hull
+    /// for I and visibility, a closed mesh's solid voxelization for O (an open mesh occludes nothing).
+    Shape<D> shape;
     bool isStatic = false; ///< Never moves (§4.5): discretized once, never asked for, never given a TBV.
     /// [World units per frame] [Limit] finite, >= 0. Bounds how far the object moves between two cull()
     /// calls; sizes its TBVs. 0: the object moves only by updateObject, so, like a static one, it is
@@ -115,7 +117,8 @@ template <int D> struct ObjectDesc {
     /// visibility test keep the shape itself. Seed 004 §5.1's principle for objects drawn as meshes that
     /// differ from the analytic shape: give the shape that contains the drawn mesh, and the inset that
     /// puts the occluder inside it (a sphere drawn as an inscribed mesh of inradius r_in: r - r_in). Then
-    /// nothing the grid hides could have changed a pixel. 0: the shape itself occludes.
+    /// nothing the grid hides could have changed a pixel. 0: the shape itself occludes. A mesh is never
+    /// eroded: any positive inset leaves it no occluder.
     double occluderInset = 0;
     /// Occludee: as if the inset left nothing (it occludes nothing). Occluder: culled as usual (it is held
     /// and tracked like any object, so it keeps occluding while in view) but left out of CullResult::pvs.
