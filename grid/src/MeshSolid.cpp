@@ -118,4 +118,10 @@ const std::vector<VoxelRowSpan>& meshInnerSpans(const MeshSolid& local, const IV
     return scratch.spans;
 }
 
+const std::vector<VoxelRowSpan>& meshTouchedSpans(const MeshSolid& local, const IVec3& resolution, double slack) {
+    thread_local MeshVoxelization scratch; // its own, so that O's spans stay valid while I's are made
+    voxelizeMeshSolid(local, resolution, false, slack, scratch);
+    return scratch.spans;
+}
+
 } // namespace rgvc

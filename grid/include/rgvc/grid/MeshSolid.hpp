@@ -6,14 +6,20 @@
 //   outer: the convex hull H of M's vertices (a ConvexPolytope). Every triangle is the hull of three
 //          vertices, so it lies in H, and so does the solid a closed surface bounds (a bounded set whose
 //          boundary lies in the convex set H lies in H). So M is a subset of H, and every test that asks
-//          "where may the object be" (I, bounds, TBV sizing, the view-region tests, the occlusion images'
+//          "where may the object be" (bounds, TBV sizing, the view-region tests, the occlusion images'
 //          occludee tests, the GL stage's proxy) takes H: the mesh behaves as a hull object there.
+//   I:     the voxels the mesh touches (voxelizeMesh with inner = false: a voxel whose box, grown by the
+//          slack, meets a triangle, or, closed, lies in the solid by the centre rule), each row's gaps
+//          filled so that I keeps one span per row like the other shapes. A point of the mesh lies on a
+//          triangle or in the solid, so its voxel is in I: the reveal and the traversal's "an object is met
+//          in the voxels that hold its visible points" hold as for any shape. Tighter than H's voxels where
+//          the hull spans a notch or a hole (an L's corner, a courtyard).
 //   inner: for a closed mesh, its conservative solid voxelization (voxelizeMesh with inner = true: only
 //          voxels entirely inside the solid, several spans per row where the solid is concave). For an
 //          open mesh, nothing: a surface has no interior and hides nothing, whatever its role says
 //          (MeshSolid::closed() tells; the scene loader gives an open mesh the role occludee and says so).
-// This is the only place where the mesh differs from its hull: ConservativeRaster.hpp writes O from the
-// voxelization and I from H.
+// These are the only places where the mesh differs from its hull: ConservativeRaster.hpp writes O and I
+// from the voxelizations.
 //
 // Sharing and motion. The mesh (welded, validated, with its topology and hull in model coordinates) is a
 // MeshModel held by shared_ptr<const>: copies of a MeshSolid (placements, a culler's records, the scene's
@@ -94,5 +100,9 @@ void voxelizeMeshSolid(const MeshSolid& local, const IVec3& resolution, bool inn
 /// as the thread (so that moving meshes re-voxelize without allocating); valid until the thread's next call.
 /// Rows in increasing linear order, spans ascending and disjoint within a row.
 const std::vector<VoxelRowSpan>& meshInnerSpans(const MeshSolid& local, const IVec3& resolution, double slack);
+/// The voxels a placed mesh touches (voxelizeMesh with inner = false: those whose box grown by `slack`
+/// meets a triangle, and for a closed mesh the solid's voxels too), the same way into a second per-thread
+/// scratch. Same order and validity as meshInnerSpans.
+const std::vector<VoxelRowSpan>& meshTouchedSpans(const MeshSolid& local, const IVec3& resolution, double slack);
 
 } // namespace rgvc

@@ -168,7 +168,9 @@ void ballRows(const Vec<D>& c, double budget, const IVec<D>& lo, const IVec<D>& 
 /// Calls rowFn(IVec<D> row, x0, x1) (row.x = 0) for the non-empty x span of every row of the footprint,
 /// rows in increasing linear order. Each row holds one span (every shape here is convex), except a mesh's
 /// inner voxels (its solid voxelization, MeshSolid.hpp): spans ascending and disjoint, several per row
-/// where the solid is concave. A mesh's touched voxels are its hull's (the outer model).
+/// where the solid is concave. A mesh's touched voxels are the voxels its triangles (and, closed, its solid)
+/// touch, one span per row from the row's first to its last (MeshSolid.hpp: the voxels a point of the mesh
+/// can lie in, and the row's gaps filled so that I keeps one span per row).
 template <int D, bool kInner, class RowFn>
 void rasterize(const Shape<D>& local, const IVec<D>& res, RowFn&& rowFn, double slack) {
     Box<D> bounds = boundsOf<D>(local);
@@ -269,6 +271,24 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, RowFn&& rowFn, double 
                         row[1] = sp.y;
                         row[D - 1] = sp.z; // D == 3 here; indexed, not .z, so that clang accepts D = 2's discarded branch
                         rowFn(row, sp.x0, sp.x1);
+                    }
+                    return;
+                }
+                if constexpr (std::is_same_v<T, MeshSolid> && !kInner) {
+                    // I: every voxel a point of the mesh lies in meets a triangle or (closed) lies in the solid,
+                    // so it is among the touched spans; the gaps between a row's spans are filled (a superset:
+                    // the footprint writers keep one span per row for I).
+                    const std::vector<VoxelRowSpan>& spans = meshTouchedSpans(s, res, slack);
+                    for (std::size_t i = 0; i < spans.size();) {
+                        const VoxelRowSpan& first = spans[i];
+                        std::int32_t x1 = first.x1;
+                        std::size_t j = i + 1;
+                        for (; j < spans.size() && spans[j].y == first.y && spans[j].z == first.z; ++j) x1 = std::max(x1, spans[j].x1);
+                        IVec<D> row{0};
+                        row[1] = first.y;
+                        row[D - 1] = first.z;
+                        rowFn(row, first.x0, x1);
+                        i = j;
                     }
                     return;
                 }
