@@ -7,6 +7,7 @@
 // stats of several cameras, and the state of every voxel, are compared before and after.
 #include "CullerTestSupport.hpp"
 #include "SceneFile.hpp"
+#include "reference/TestMeshes.hpp"
 
 #include "rgvc/dynamics/Culler.hpp"
 #include "rgvc/grid/Camera.hpp"
@@ -682,4 +683,34 @@ TEST_CASE("known issues: rejected or mishandled input", "[errors][!mayfail]") {
         // nlohmann's lexer takes '\0' for the end of input: "{...}\0garbage" parses as "{...}".
         CHECK(sceneFieldOf(std::string(kBaseScene) + std::string("\0garbage", 8)).rfind("line ", 0) == 0);
     }
+}
+
+TEST_CASE("an open mesh can only be an occludee: addObject and updateObject say so and lose nothing", "[api][mesh]") {
+    // Issue 13: "a mesh that is not closed can only be an occludee (its outer bound) and says so".
+    const GridGeometry3 grid({0, 0, 0}, 1.0, {32, 32, 32});
+    TriangleMesh box = reference::cellMeshTriangles(reference::kBoxCells, {12, 12, 2}, {10, 10, 14});
+    TriangleMesh open = box;
+    open.triangles.pop_back(); // one face half gone: three boundary edges
+    const MeshSolid closedWall = reference::meshShape(box), openWall = reference::meshShape(open);
+    REQUIRE(closedWall.closed());
+    REQUIRE(!openWall.closed());
+    Culler3D culler(grid);
+    for (ObjectRole role : {ObjectRole::Both, ObjectRole::Occluder}) {
+        CHECK(fieldOf([&] { culler.addObject({.id = 1, .shape = openWall, .role = role}); }) == "object 1.role");
+        CHECK(culler.objectCount() == 0);
+    }
+    CHECK_THROWS_WITH(culler.addObject({.id = 1, .shape = openWall}),
+                      Catch::Contains("an open mesh hides nothing (3 boundary") && Catch::Contains("role Occludee"));
+    CHECK_NOTHROW(culler.addObject({.id = 2, .shape = openWall, .role = ObjectRole::Occludee}));
+    // A closed wall hides the ball behind it; moving it to an open mesh is refused and the wall stays.
+    culler.addObject({.id = 3, .shape = closedWall, .isStatic = true});
+    culler.addObject({.id = 4, .shape = Ball<3>{{16, 16, 24}, 1}, .isStatic = true});
+    const Camera3 cam = makeCamera(Vec3{16, 16, 4}, Vec3{0, 0, 1}, 40);
+    const std::vector<ObjectId> before = culler.cull(cam).pvs;
+    CHECK(std::find(before.begin(), before.end(), ObjectId(4)) == before.end());
+    CHECK(fieldOf([&] { culler.updateObject(3, openWall); }) == "object 3.role");
+    CHECK(culler.cull(cam).pvs == before);
+    // The occludee may become any mesh, open or closed.
+    CHECK_NOTHROW(culler.updateObject(2, closedWall.translated(Vec3{0, 0, -6})));
+    CHECK_NOTHROW(culler.updateObject(2, openWall));
 }

@@ -162,6 +162,23 @@ template <int D> std::vector<ObjectDesc<D>> Culler<D>::objects() const {
 }
 template <int D> const CullResult& Culler<D>::lastResult() const { return checked("lastResult").main.result; }
 
+/// Issue 13: "a mesh that is not closed can only be an occludee and says so". An open mesh is a surface: it
+/// has no interior, so it gets no O and hides nothing. Given a role that promises occlusion (Both, Occluder)
+/// it would quietly hide nothing, which a level designer's non-watertight building would not show until
+/// something behind it was drawn: refused with the reason instead. (A placement query's open mesh for such
+/// an object is not refused: that shape is the same object's, and hiding nothing stays sound.)
+template <int D> static void checkMeshRole(const Shape<D>& shape, ObjectRole role, const std::string& field) {
+    if constexpr (D == 3) {
+        const auto* m = std::get_if<MeshSolid>(&shape);
+        if (m == nullptr || m->closed() || role == ObjectRole::Occludee) return;
+        const MeshTopology& t = m->model()->topology;
+        throw InvalidInput(field + ".role", "an open mesh hides nothing (" + std::to_string(t.boundaryEdges) + " boundary, " +
+                                                std::to_string(t.nonManifoldEdges) + " non-manifold, " +
+                                                std::to_string(t.misorientedEdges) +
+                                                " misoriented edges): give it role Occludee, or close the mesh");
+    }
+}
+
 template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
     Impl& m = checked("addObject");
     const std::string field = "object " + std::to_string(object.id);
@@ -174,6 +191,7 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
         throw InvalidInput(field + ".role", "must be Both, Occludee or Occluder");
     Shape<D> shape = object.shape;
     validateShape<D>(shape, field);
+    checkMeshRole<D>(shape, object.role, field);
     typename Impl::Placement p = m.makePlacement(shape, object.occluderInset, object.role);
 
     ObjectSlot slot;
@@ -216,6 +234,7 @@ template <int D> void Culler<D>::updateObject(ObjectId id, const Shape<D>& shape
     validateShape<D>(validated, [&] { return "object " + std::to_string(id); });
     const ObjectSlot slot = it->second;
     typename Impl::Record& r = m.records[slot];
+    checkMeshRole<D>(validated, r.role, "object " + std::to_string(id));
     typename Impl::Placement p = m.makePlacement(validated, r.inset, r.role);
     switch (r.state) {
     case Impl::State::Tracked:

@@ -105,8 +105,9 @@ const char* toString(ObjectRole r);
 template <int D> struct ObjectDesc {
     ObjectId id = 0;
     /// [World units] current placement. A triangle mesh (MeshSolid, 3D) is its own two models: the voxels
-    /// it touches for I and its hull for visibility, a closed mesh's solid voxelization for O (an open mesh
-    /// occludes nothing).
+    /// it touches for I and its hull for visibility, a closed mesh's solid voxelization for O. An open mesh
+    /// occludes nothing: addObject and updateObject refuse one (InvalidInput naming ".role" and the edges
+    /// that leave it open) unless role is Occludee.
     Shape<D> shape;
     bool isStatic = false; ///< Never moves (§4.5): discretized once, never asked for, never given a TBV.
     /// [World units per frame] [Limit] finite, >= 0. Bounds how far the object moves between two cull()
