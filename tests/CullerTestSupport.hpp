@@ -382,6 +382,27 @@ template <int D> void checkFrame(Culler<D>& culler, const std::vector<ObjectDesc
     if (!missed.empty()) FAIL_CHECK("culler missed a visible object");
 }
 
+/// The moving-scene loop of the random 3D scene tests: `frames` frames; from the second on, every
+/// non-static object moves by min(2 voxels, maxSpeed) in a random direction (updateObject), and each
+/// frame is culled from a random camera (the scene's own at frame 0) and checked (checkFrame).
+inline void runMovingFrames(Culler3D& culler, std::vector<ObjectDesc<3>>& objects, const reference::Scene3D& s,
+                            const reference::SceneOptions3D& opt, std::mt19937_64& rng, int frames, const std::string& label,
+                            Tally& tally) {
+    for (int frame = 0; frame < frames; ++frame) {
+        if (frame > 0)
+            for (ObjectDesc<3>& o : objects) {
+                if (o.isStatic) continue;
+                const double d = std::min(2 * s.grid.voxelSize(), o.maxSpeed);
+                Vec3 t{reference::seeded::uniform(rng, -1, 1), reference::seeded::uniform(rng, -1, 1), reference::seeded::uniform(rng, -1, 1)};
+                t *= d / std::max(1e-300, std::sqrt(lengthSquared<3>(t)));
+                o.shape = translated<3>(o.shape, t);
+                culler.updateObject(o.id, o.shape);
+            }
+        const Camera3 cam = frame == 0 ? s.camera : reference::randomCamera3D(rng, s.grid, objects, s.snapped, opt);
+        checkFrame(culler, objects, cam, label + ", frame " + std::to_string(frame), tally);
+    }
+}
+
 // ---------------------------------------------------------------------------------------------------
 // The stress tests' scenes (test_stress2d, test_stress3d)
 

@@ -167,19 +167,7 @@ TEST_CASE("mesh occluder: moving meshes keep the PVS conservative", "[mesh][cull
         Culler3D culler(s.grid);
         for (const ObjectDesc<3>& o : s.objects) culler.addObject(o);
         std::vector<ObjectDesc<3>> objects = s.objects;
-        for (int frame = 0; frame < 5; ++frame) {
-            if (frame > 0)
-                for (ObjectDesc<3>& o : objects) {
-                    if (o.isStatic) continue;
-                    const double d = std::min(2 * s.grid.voxelSize(), o.maxSpeed);
-                    Vec3 t{sd::uniform(rng, -1, 1), sd::uniform(rng, -1, 1), sd::uniform(rng, -1, 1)};
-                    t *= d / std::max(1e-300, std::sqrt(lengthSquared<3>(t)));
-                    o.shape = translated<3>(o.shape, t);
-                    culler.updateObject(o.id, o.shape);
-                }
-            Camera3 cam = frame == 0 ? s.camera : ref::randomCamera3D(rng, s.grid, objects, s.snapped, opt);
-            checkFrame(culler, objects, cam, "moving meshes, seed " + std::to_string(seed) + ", frame " + std::to_string(frame), tally);
-        }
+        runMovingFrames(culler, objects, s, opt, rng, 5, "moving meshes, seed " + std::to_string(seed), tally);
     }
     tally.print("moving meshes");
     REQUIRE(tally.frames == 200);
