@@ -164,8 +164,7 @@ TEST_CASE("mesh occluder: moving meshes keep the PVS conservative", "[mesh][cull
         opt.maxObjects = 40;
         ref::Scene3D s = ref::randomScene3D(seed, opt);
         std::mt19937_64 rng(seed * 31 + 7);
-        Culler3D culler(s.grid);
-        for (const ObjectDesc<3>& o : s.objects) culler.addObject(o);
+        Culler3D culler = makeCuller(s.grid, s.objects);
         std::vector<ObjectDesc<3>> objects = s.objects;
         runMovingFrames(culler, objects, s, opt, rng, 5, "moving meshes, seed " + std::to_string(seed), tally);
     }
