@@ -489,6 +489,17 @@ TEST_CASE("culler3d: no misses without occluder extension (layer-by-layer caps)"
     REQUIRE(t2.misses == 0);
 }
 
+TEST_CASE("culler3d: no misses with the buffer's pass on a fresh image (bufferFromTraversalImage off)", "[culler3d]") {
+    // The default pass inherits the walk's image (OcclusionBuffer3D::beginRefined); the variant it
+    // replaced, a fresh image into which every kept object is drawn again, stays an option and stays sound.
+    CullerOptions o;
+    o.bufferFromTraversalImage = false;
+    Tally t = runRandomScenes("fresh buffer image", 420001, 100, 2, ref::SceneOptions3D{}, o);
+    Tally t2 = runRandomScenes("fresh buffer image, crowded", 430001, 60, 2, crowded(ref::SceneOptions3D{}), o);
+    REQUIRE(t.misses == 0);
+    REQUIRE(t2.misses == 0);
+}
+
 TEST_CASE("culler3d: updateObject and removeObject keep the PVS conservative", "[culler3d]") {
     // Objects move (some while hidden), change shape, disappear and appear over several frames; every
     // frame is checked against the reference on the current set of objects.

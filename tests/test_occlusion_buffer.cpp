@@ -292,3 +292,92 @@ TEST_CASE("buffer: sphere clouds against the exact reference", "[buffer]") {
     CHECK(misses == 0);
     CHECK(hiddenCount * 2 > hiddenInView); // most of the hidden objects in view are left out
 }
+
+TEST_CASE("buffer: a refined image inherits the coarse image's depths and what it hides", "[buffer]") {
+    // beginRefined: every fine pixel starts at the depth of the coarse pixel that contains it, so what the
+    // coarse image hides the refined one hides without drawing anything again.
+    const Camera3 cam = lookingAlongZ({50, 30, 0}, 60, 1.6);
+    const ViewFrustum view(cam, kUnitGrid);
+    OcclusionBuffer3D coarse, fine;
+    REQUIRE(coarse.begin(view, 32));
+    coarse.draw(Box<3>{{40, 20, 20}, {60, 40, 21}}, 0);
+    coarse.draw(Ball<3>{{35, 30, 30}, 4}, 0);
+    for (const int factor : {1, 2, 3}) {
+        REQUIRE(fine.beginRefined(coarse, factor));
+        CHECK(fine.rows() == coarse.rows() * factor);
+        CHECK(fine.cols() == coarse.cols() * factor);
+        int mismatched = 0;
+        for (int j = 0; j < fine.rows(); ++j)
+            for (int i = 0; i < fine.cols(); ++i) mismatched += fine.depthAt(i, j) != coarse.depthAt(i / factor, j / factor);
+        CHECK(mismatched == 0);
+        CHECK(fine.stats().occludersDrawn == 0);
+        CHECK(fine.hidden(Ball<3>{{50, 30, 40}, 5}, 0));
+        CHECK(fine.hidden(Box<3>{{45, 25, 30}, {55, 35, 31}}, 0));
+        CHECK_FALSE(fine.hidden(Box<3>{{40, 20, 10}, {60, 40, 11}}, 0)); // in front of the wall
+        CHECK_FALSE(fine.hidden(Ball<3>{{50, 30, 60}, 30}, 0));          // wider than the wall's image
+    }
+    // Limits: an inactive coarse image, a factor below 1, or more than kMaxExtent pixels a side.
+    OcclusionBuffer3D idle;
+    CHECK_FALSE(fine.beginRefined(idle, 2));
+    CHECK_FALSE(fine.beginRefined(coarse, 0));
+    CHECK_FALSE(fine.beginRefined(coarse, OcclusionBuffer3D::kMaxExtent));
+    CHECK_FALSE(fine.hidden(Ball<3>{{50, 30, 40}, 1}, 0)); // a failed begin hides nothing
+}
+
+TEST_CASE("buffer: random scenes through a coarse image refined, against the exact reference", "[buffer]") {
+    // The culler's order (CullerOptions::bufferFromTraversalImage): a coarse image gets the large objects
+    // (the walk draws those), a refined image of it then tests every object nearest first and draws only
+    // those the coarse one did not get. Every object hidden must be one the reference does not see, and
+    // the refined pass must hide some.
+    const std::uint64_t seed0 = 7700;
+    ref::SceneOptions3D opt;
+    opt.maxObjects = 120;
+    int scenes = 0, tested = 0, hiddenCount = 0, misses = 0;
+    for (std::uint64_t k = 0; k < 300; ++k) {
+        const ref::Scene3D scene = ref::randomScene3D(seed0 + k, opt);
+        const std::vector<Shape<3>> world = ref::shapesOf(scene.objects);
+        std::vector<Shape<3>> local;
+        for (const Shape<3>& s : world) local.push_back(toLocal<3>(s, scene.grid));
+        const ViewFrustum view(scene.camera, scene.grid);
+        double magnitude = 0;
+        for (const Shape<3>& s : world) {
+            const Box<3> b = boundsOf<3>(s);
+            for (int a = 0; a < 3; ++a) magnitude = std::max({magnitude, std::abs(b.min[a]), std::abs(b.max[a])});
+        }
+        const double slack = view.slack() + scene.grid.conversionSlack(magnitude);
+        OcclusionBuffer3D coarse, fine;
+        const int rows = std::array<int, 4>{8, 17, 32, 50}[k % 4], factor = 1 + int(k % 3);
+        if (!coarse.begin(view, rows)) continue;
+        std::vector<bool> drawn(local.size(), false);
+        for (std::size_t i = 0; i < local.size(); ++i)
+            if (boundingBall<3>(local[i]).radius >= 2) { // "large"; the coarse image tests nothing here
+                coarse.draw(local[i], slack);
+                drawn[i] = true;
+            }
+        REQUIRE(fine.beginRefined(coarse, factor));
+        std::vector<std::pair<double, std::size_t>> order;
+        for (std::size_t i = 0; i < local.size(); ++i) order.push_back({fine.nearestDistance(local[i], slack), i});
+        std::sort(order.begin(), order.end());
+        std::vector<bool> hidden(local.size(), false);
+        for (const auto& [d, i] : order) {
+            if (fine.hidden(local[i], slack, d)) hidden[i] = true;
+            else if (!drawn[i]) fine.draw(local[i], slack);
+        }
+        const std::vector<bool> seen = ref::visible3D(world, scene.camera);
+        ++scenes;
+        for (std::size_t i = 0; i < world.size(); ++i) {
+            ++tested;
+            hiddenCount += hidden[i];
+            if (hidden[i] && seen[i]) {
+                ++misses;
+                UNSCOPED_INFO("seed " << scene.seed << " object " << scene.objects[i].id << " rows " << rows << " factor "
+                                      << factor << "\n" << ref::toJson(scene));
+                CHECK_FALSE((hidden[i] && seen[i]));
+            }
+        }
+    }
+    std::printf("[buffer] refined images: %d scenes, %d objects, %d hidden, %d misses\n", scenes, tested, hiddenCount, misses);
+    CHECK(misses == 0);
+    CHECK(scenes > 250);
+    CHECK(hiddenCount > 0);
+}

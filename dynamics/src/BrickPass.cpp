@@ -52,7 +52,10 @@ void Culler<D>::Impl::classify(ViewScratch<S>& vs, ObjectSlot slot, const View& 
         if constexpr (D == 3) polytope = std::holds_alternative<ConvexPolytope>(r.at.local);
         const double minPixels = tiles || polytope ? 4.0 : kMinTraversalOccluderPixels;
         if (vs.imageActive && r.at.occludes && vs.traversalImage.spans(boundingBall<D>(r.at.local).radius, nearest, minPixels))
+        {
             vs.traversalImage.draw(*r.at.occluder(), slack);
+            vs.drawnStamp[slot] = vs.stamp; // the refinement pass's image inherits it (refineWithBuffer)
+        }
     } else {
         // 2D: the angular image (OcclusionBuffer2D). Drawing is cheap in 1D: every visible occluder is
         // drawn, whatever its size.

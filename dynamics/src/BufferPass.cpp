@@ -18,12 +18,22 @@ template <int D>
 template <class S, class View>
 void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, CullStats& st) {
     auto& occlusionBuffer = vs.occlusionBuffer;
+    bool inherited = false; // CullerOptions::bufferFromTraversalImage: begun from the walk's image
     auto& bufferOrder = vs.bufferOrder;
     auto& bufferShapes = vs.bufferShapes;
     auto& pvsStamp = vs.pvsStamp;
     {
         const auto t0 = std::chrono::steady_clock::now();
-        if (!occlusionBuffer.begin(view, Traits::bufferSize(options))) return;
+        if constexpr (D == 3) {
+            // The walk drew the large occluders (walls, buildings) into its image; the pass inherits them
+            // at a finer resolution instead of drawing them again (each of its pixels starts at the depth
+            // of the walk's pixel that contains it: a true bound, OcclusionBuffer3D::beginRefined).
+            if (options.bufferFromTraversalImage && vs.imageKept) {
+                const int rows = vs.traversalImage.rows(), want = Traits::bufferSize(options);
+                inherited = occlusionBuffer.beginRefined(vs.traversalImage, std::max(1, (want + rows - 1) / rows));
+            }
+        }
+        if (!inherited && !occlusionBuffer.begin(view, Traits::bufferSize(options))) return;
         // One pass over the records (large, scattered: each read is a cache miss) copies what the buffer
         // needs; the sort then moves 16-byte keys, and the test-and-draw pass reads the copies in order.
         bufferOrder.clear();
@@ -43,7 +53,7 @@ void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, Cul
             if (occlusionBuffer.hidden(b.shape(), b.slack, distance)) {
                 pvsStamp[b.slot] = 0; // marks it for removal below; the grid's verdict (lastPvsFrame) stays
                 ++removed;
-            } else if (b.occluder != nullptr) {
+            } else if (b.occluder != nullptr && !(inherited && vs.drawnStamp[b.slot] == vs.stamp)) {
                 occlusionBuffer.draw(*b.occluder, b.slack);
             }
         }

@@ -60,6 +60,7 @@ template <int D> void Culler<D>::Impl::nextFrame() {
         storage.resetStamps();
         std::fill(main.pvsStamp.begin(), main.pvsStamp.end(), 0);
         std::fill(main.classifiedStamp.begin(), main.classifiedStamp.end(), 0);
+        std::fill(main.drawnStamp.begin(), main.drawnStamp.end(), 0);
         frame = 1;
     }
 }
@@ -205,6 +206,7 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
         m.statePos.push_back(kNone);
         m.outsidePos.push_back(kNone);
         m.main.classifiedStamp.push_back(0);
+        m.main.drawnStamp.push_back(0);
         m.footprints.emplace_back();
     }
     typename Impl::Record& r = m.records[slot];

@@ -156,9 +156,10 @@ template <int D> struct Culler<D>::Impl {
         std::vector<std::pair<double, std::uint32_t>> bufferOrder; // (nearest distance, index in bufferShapes)
         std::vector<BufferShape> bufferShapes;
         typename Traits::Buffer occlusionBuffer;
-        // Per slot: the stamp in which the object joined this view's PVS, and in which the hierarchical
-        // traversal classified it (tested against the view and the image).
-        std::vector<std::uint32_t> pvsStamp, classifiedStamp;
+        // Per slot: the stamp in which the object joined this view's PVS, in which the hierarchical
+        // traversal classified it (tested against the view and the image), and in which it drew it into
+        // its image (3D).
+        std::vector<std::uint32_t> pvsStamp, classifiedStamp, drawnStamp;
         std::vector<ObjectSlot> revealScratch;
         std::vector<ObjectSlot> met; // kShared: hidden objects whose TBV this view met, in the order met
         const typename Traits::View* view = nullptr; // while the pass runs

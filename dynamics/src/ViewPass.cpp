@@ -21,10 +21,12 @@ template <int D> template <class S> void Culler<D>::Impl::beginView(ViewScratch<
             vs.storage->resetStamps();
             std::fill(vs.pvsStamp.begin(), vs.pvsStamp.end(), 0);
             std::fill(vs.classifiedStamp.begin(), vs.classifiedStamp.end(), 0);
+            std::fill(vs.drawnStamp.begin(), vs.drawnStamp.end(), 0);
             vs.stamp = 1;
         }
         vs.pvsStamp.resize(records.size(), 0);
         vs.classifiedStamp.resize(records.size(), 0);
+        vs.drawnStamp.resize(records.size(), 0);
         vs.met.clear();
         vs.failure = nullptr;
     } else {

@@ -27,9 +27,44 @@ bool OcclusionBuffer3D::begin(const ViewFrustum& view, int rows) {
     m_up = view.trueUp();
     m_halfW = th * (1 + kImageMargin);
     m_halfH = tv * (1 + kImageMargin);
+    m_depth.assign(std::size_t(m_rows) * std::size_t(m_cols), kInf);
+    startImage();
+    return true;
+}
+
+bool OcclusionBuffer3D::beginRefined(const OcclusionBuffer3D& coarse, int factor) {
+    m_stats = {};
+    m_active = false;
+    if (!coarse.m_active || factor < 1 || coarse.m_rows > kMaxExtent / factor || coarse.m_cols > kMaxExtent / factor)
+        return false;
+    m_rows = coarse.m_rows * factor;
+    m_cols = coarse.m_cols * factor;
+    m_apex = coarse.m_apex;
+    m_forward = coarse.m_forward;
+    m_right = coarse.m_right;
+    m_up = coarse.m_up;
+    m_halfW = coarse.m_halfW;
+    m_halfH = coarse.m_halfH;
+    // Pixel (i, j) of this image is pixel (i / factor, j / factor) of the coarse one cut into factor^2:
+    // its cone lies in the coarse pixel's cone, so every one of its rays has entered an occluder by the
+    // coarse depth (OcclusionBuffer3D.hpp, "Occluders"), and that depth is a true bound here too. The two
+    // lattices are computed separately, so a fine pixel's corner may lie an ulp outside its coarse pixel;
+    // an occludee direction there is also within pixelsOf's index margin (1e-6 of a pixel) of the
+    // neighbouring fine pixel, which its test then reads too, and which inherits the neighbouring coarse
+    // pixel's bound: the sliver is covered by the pixel it belongs to.
+    m_depth.resize(std::size_t(m_rows) * std::size_t(m_cols));
+    for (int j = 0; j < m_rows; ++j) {
+        const double* src = coarse.m_depth.data() + std::size_t(j / factor) * std::size_t(coarse.m_cols);
+        double* dst = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
+        for (int i = 0; i < m_cols; ++i) dst[i] = src[i / factor];
+    }
+    startImage();
+    return true;
+}
+
+void OcclusionBuffer3D::startImage() {
     m_pixelW = 2 * m_halfW / m_cols;
     m_pixelH = 2 * m_halfH / m_rows;
-    m_depth.assign(std::size_t(m_rows) * std::size_t(m_cols), kInf);
     m_partial.assign(std::size_t(m_rows) * std::size_t(m_cols), 0);
     // A pixel's corner bits are read only after its slot is set, which writes them: sized, not cleared.
     m_partialCorners.resize(std::size_t(m_rows) * std::size_t(m_cols));
@@ -54,7 +89,6 @@ bool OcclusionBuffer3D::begin(const ViewFrustum& view, int rows) {
     m_rowB.resize(std::size_t(m_cols + 1));
     m_corners.resize(std::size_t(m_cols + 1));
     m_active = true;
-    return true;
 }
 
 OcclusionBuffer3D::PixelRect OcclusionBuffer3D::pixelsOf(double x0, double x1, double y0, double y1) const {

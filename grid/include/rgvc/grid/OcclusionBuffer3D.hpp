@@ -86,6 +86,13 @@ public:
     /// @return false (and the buffer hides nothing) when the view is too extreme for a useful image:
     ///         tanHalfWidth or tanHalfHeight outside [1e-4, 1e4] (fov within ~0.01 degree of 0 or 180).
     bool begin(const ViewFrustum& view, int rows);
+    /// Starts a frame over the view of `coarse` (begun and drawn this frame) with factor x factor pixels
+    /// for each of its pixels, each starting at its coarse pixel's depth (a true bound for every ray of
+    /// the finer pixel, whose cone lies in the coarse one's). Occluders already drawn into `coarse` need
+    /// not be drawn again; drawing them again only sharpens their outline.
+    /// @param factor  [Limit] >= 1, with coarse.rows() * factor and coarse.cols() * factor <= kMaxExtent.
+    /// @return false (and the buffer hides nothing) when `coarse` is not active or the limit is exceeded.
+    bool beginRefined(const OcclusionBuffer3D& coarse, int factor);
 
     /// Nearest distance [voxel units] from the camera to the shape grown by `grow` (0 when the camera
     /// is inside it): the sort key of the front-to-back order.
@@ -131,6 +138,8 @@ private:
     static constexpr double kImageMargin = 1e-6;
 
     using PixelRect = ImageFootprint3D::Rect;
+    /// begin() and beginRefined() after the view, extent and depths are set: the lattice and the seams.
+    void startImage();
     PixelRect wholeImage() const { return {0, m_cols - 1, 0, m_rows - 1}; }
     /// Pixels whose cones can hold a direction with image coordinates in [x0, x1] x [y0, y1].
     PixelRect pixelsOf(double x0, double x1, double y0, double y1) const;
