@@ -47,14 +47,67 @@ void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, Cul
             bufferShapes.push_back({small ? r.at.local : Shape<D>{}, small ? nullptr : &r.at.local, r.at.occluder(), slack, slot});
         }
         std::sort(bufferOrder.begin(), bufferOrder.end());
+        // The occluders the walk drew are in the inherited image at its coarser resolution, whose depths
+        // are a coarse pixel's largest entry: behind a wall seen at a grazing angle, or at a room's corner,
+        // that can leave an object visible which the finer pixels would hide. Such an occluder is drawn
+        // again, once, when an object behind it (farther by the sort key) whose image may overlap its
+        // image (their outer pixel rectangles meet) fails its test, and the object is tested again. The
+        // object's verdict is then what a fresh image with every kept object drawn would give it: every
+        // occluder that fresh image would hold nearer than it and overlapping it is drawn at full
+        // resolution. Drawing more is always sound; the rectangle test only saves work. Beyond kMaxLazy such
+        // occluders (a cloud of large spheres) the pairs would cost more than they save: they are all
+        // drawn in sorted order, as in a fresh image.
+        constexpr std::size_t kMaxLazy = 32;
+        auto& lazy = vs.lazyOccluders;
+        lazy.clear();
+        const Vec<D> apex = view.apex();
+        if constexpr (D == 3) {
+            if (inherited) {
+                for (const auto& [distance, index] : bufferOrder) {
+                    const BufferShape& b = bufferShapes[index];
+                    if (b.occluder == nullptr || vs.drawnStamp[b.slot] != vs.stamp) continue;
+                    lazy.push_back({occlusionBuffer.pixelRect(*b.occluder, 0.0), distance, index, false});
+                }
+                if (lazy.size() > kMaxLazy) lazy.clear();
+            }
+        }
+        const bool lazyRedraw = inherited && !lazy.empty();
+        auto redrawNearer = [&](const BufferShape& x, double distance) {
+            bool any = false;
+            if constexpr (D == 3) {
+                const ImageFootprint3D::Rect r = occlusionBuffer.pixelRect(x.shape(), x.slack);
+                for (LazyOccluder& e : lazy) {
+                    if (e.redrawn || !(e.nearest < distance)) continue;
+                    if (e.rect.i0 > r.i1 || r.i0 > e.rect.i1 || e.rect.j0 > r.j1 || r.j0 > e.rect.j1) continue;
+                    const BufferShape& o = bufferShapes[e.index];
+                    occlusionBuffer.draw(*o.occluder, o.slack);
+                    e.redrawn = any = true;
+                }
+            }
+            return any;
+        };
+        // Only an object whose centre is already behind some occluder drawn (its centre's pixel covered
+        // nearer than the object's nearest point) is one that sharper occluders may hide: an object seen
+        // through open space at its centre stays visible whatever is drawn. Occluders the walk drew do not
+        // ask (their own coarse image covers their centre; they are in the PVS either way).
+        auto coveredBehind = [&](const BufferShape& x, double distance) {
+            if constexpr (D == 3) {
+                if (vs.drawnStamp[x.slot] == vs.stamp) return false;
+                return occlusionBuffer.coveredNearer(boundingBall<D>(x.shape()).center, distance);
+            } else {
+                return true;
+            }
+        };
         std::uint32_t removed = 0;
         for (const auto& [distance, index] : bufferOrder) {
             const BufferShape& b = bufferShapes[index];
-            if (occlusionBuffer.hidden(b.shape(), b.slack, distance)) {
+            bool hides = occlusionBuffer.hidden(b.shape(), b.slack, distance);
+            if (!hides && lazyRedraw && coveredBehind(b, distance) && redrawNearer(b, distance)) hides = occlusionBuffer.hidden(b.shape(), b.slack, distance);
+            if (hides) {
                 pvsStamp[b.slot] = 0; // marks it for removal below; the grid's verdict (lastPvsFrame) stays
                 ++removed;
-            } else if (b.occluder != nullptr && !(inherited && vs.drawnStamp[b.slot] == vs.stamp)) {
-                occlusionBuffer.draw(*b.occluder, b.slack);
+            } else if (b.occluder != nullptr && !(lazyRedraw && vs.drawnStamp[b.slot] == vs.stamp)) {
+                occlusionBuffer.draw(*b.occluder, b.slack); // (an occluder the walk drew is drawn when needed)
             }
         }
         if (removed != 0) {

@@ -135,6 +135,15 @@ template <int D> struct Culler<D>::Impl {
         ObjectSlot slot;
     };
 
+    /// CullerOptions::bufferFromTraversalImage: an occluder the walk drew, inherited by the pass's image
+    /// and drawn into it again at its resolution only once a farther object it may cover stays visible.
+    struct LazyOccluder {
+        ImageFootprint3D::Rect rect; // the pixels its image can touch (OcclusionBuffer3D::pixelRect)
+        double nearest;              // [voxel units] the sort key
+        std::uint32_t index;         // in bufferShapes
+        bool redrawn;
+    };
+
     /// One view's state in a frame. S is the storage its traversal stamps: the scene's DenseStorage
     /// (cull()) or a ViewStorage over it (cullViews(), kShared: the pass writes nothing of the scene).
     template <class S> struct ViewScratch {
@@ -155,6 +164,7 @@ template <int D> struct Culler<D>::Impl {
         std::vector<ObjectSlot> pvsSlots;
         std::vector<std::pair<double, std::uint32_t>> bufferOrder; // (nearest distance, index in bufferShapes)
         std::vector<BufferShape> bufferShapes;
+        std::vector<LazyOccluder> lazyOccluders;
         typename Traits::Buffer occlusionBuffer;
         // Per slot: the stamp in which the object joined this view's PVS, in which the hierarchical
         // traversal classified it (tested against the view and the image), and in which it drew it into

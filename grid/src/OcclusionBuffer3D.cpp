@@ -465,6 +465,25 @@ bool OcclusionBuffer3D::canHide(const Vec3& p) const {
     return m_depth[std::size_t(j) * std::size_t(m_cols) + std::size_t(i)] < std::sqrt(lengthSquared<3>(p)) * (1 - kRelMargin);
 }
 
+ImageFootprint3D::Rect OcclusionBuffer3D::pixelRect(const Shape<3>& shape, double grow) const {
+    if (!m_active) return {0, -1, 0, -1};
+    if (const auto* b = std::get_if<Ball<3>>(&shape)) return rectOf(b->center - m_apex, b->radius + grow);
+    const Box<3> box = boundsOf<3>(shape);
+    return rectOf(box.min - grow - m_apex, box.max + grow - m_apex);
+}
+
+bool OcclusionBuffer3D::coveredNearer(const Vec3& point, double limit) const {
+    if (!m_active) return false;
+    const Vec3 p = point - m_apex;
+    const double z = glm::dot(p, m_forward);
+    if (!(z > 0)) return false;
+    const double x = glm::dot(p, m_right) / z, y = glm::dot(p, m_up) / z;
+    if (!(std::abs(x) < m_halfW) || !(std::abs(y) < m_halfH)) return false;
+    const int i = std::min(m_cols - 1, int((x + m_halfW) / m_pixelW));
+    const int j = std::min(m_rows - 1, int((y + m_halfH) / m_pixelH));
+    return m_depth[std::size_t(j) * std::size_t(m_cols) + std::size_t(i)] < limit;
+}
+
 double OcclusionBuffer3D::zMinOf(double nearest) const {
     // A point of the view at distance r from the apex has z >= r / sqrt(1 + halfW^2 + halfH^2) (its image
     // coordinates are within the half extents), so a shape's points in view, all at distance >= nearest,

@@ -123,6 +123,15 @@ public:
     bool spans(double radius, double nearest, double pixels) const {
         return m_active && 2 * radius >= pixels * std::min(m_pixelW, m_pixelH) * std::max(nearest, 1e-300);
     }
+    /// Whether some occluder drawn so far covers the pixel showing point p [voxel units, the grid's local
+    /// coordinates] nearer than `limit` (false for a point outside the image or behind the camera). A
+    /// cost heuristic for callers deciding whether to draw more (refineWithBuffer), never a verdict.
+    bool coveredNearer(const Vec3& p, double limit) const;
+    /// The pixels the image of the shape grown by `grow` [voxel units] can touch, as inclusive column and
+    /// row ranges (empty when i0 > i1): its outer rectangle when it lies in front of the camera, else the
+    /// whole image (polytopes and meshes by their bounding box). For cost heuristics (which occluders may
+    /// matter to which occludee, refineWithBuffer); occludee tests use the exact footprints.
+    ImageFootprint3D::Rect pixelRect(const Shape<3>& shape, double grow) const;
     int rows() const { return m_rows; }
     int cols() const { return m_cols; }
     /// Depth of pixel (col, row), +inf where no occluder covers it (for pictures and tests).
