@@ -35,6 +35,27 @@ Camera3 lookingAlongZ(Vec3 position = {50, 30, 0}, double fov = 60, double aspec
     return c;
 }
 
+/// A random reference scene in the grid's local coordinates, with the slack the culler would give its
+/// objects (the view's and the conversion slack of the largest world coordinate, which bounds every
+/// object's own).
+struct LocalScene {
+    std::vector<Shape<3>> world, local;
+    double slack = 0;
+};
+
+LocalScene localScene(const ref::Scene3D& scene, const ViewFrustum& view) {
+    LocalScene l;
+    l.world = ref::shapesOf(scene.objects);
+    double magnitude = 0;
+    for (const Shape<3>& s : l.world) {
+        l.local.push_back(toLocal<3>(s, scene.grid));
+        const Box<3> b = boundsOf<3>(s);
+        for (int a = 0; a < 3; ++a) magnitude = std::max({magnitude, std::abs(b.min[a]), std::abs(b.max[a])});
+    }
+    l.slack = view.slack() + scene.grid.conversionSlack(magnitude);
+    return l;
+}
+
 } // namespace
 
 TEST_CASE("buffer: fixed occluders and occludees", "[buffer]") {
@@ -156,19 +177,11 @@ TEST_CASE("buffer: random scenes against the exact reference", "[buffer]") {
     int scenes = 0, tested = 0, hiddenCount = 0, visibleCount = 0;
     for (std::uint64_t k = 0; k < 500; ++k) {
         const ref::Scene3D scene = ref::randomScene3D(seed0 + k, opt);
-        const std::vector<Shape<3>> world = ref::shapesOf(scene.objects);
-        std::vector<Shape<3>> local;
-        for (const Shape<3>& s : world) local.push_back(toLocal<3>(s, scene.grid));
         const ViewFrustum view(scene.camera, scene.grid);
+        const auto [world, local, slack] = localScene(scene, view);
         OcclusionBuffer3D buffer;
         const int rows = std::array<int, 5>{1, 16, 64, 97, 256}[k % 5];
         if (!buffer.begin(view, rows)) continue;
-        double magnitude = 0; // the largest world coordinate: the culler's slack per object is at most this one's
-        for (const Shape<3>& s : world) {
-            const Box<3> b = boundsOf<3>(s);
-            for (int a = 0; a < 3; ++a) magnitude = std::max({magnitude, std::abs(b.min[a]), std::abs(b.max[a])});
-        }
-        const double slack = view.slack() + scene.grid.conversionSlack(magnitude);
         const std::vector<bool> hidden = bufferPass(buffer, local, slack);
         const std::vector<bool> seen = ref::visible3D(world, scene.camera);
         ++scenes;
@@ -335,16 +348,8 @@ TEST_CASE("buffer: random scenes through a coarse image refined, against the exa
     int scenes = 0, tested = 0, hiddenCount = 0, misses = 0;
     for (std::uint64_t k = 0; k < 300; ++k) {
         const ref::Scene3D scene = ref::randomScene3D(seed0 + k, opt);
-        const std::vector<Shape<3>> world = ref::shapesOf(scene.objects);
-        std::vector<Shape<3>> local;
-        for (const Shape<3>& s : world) local.push_back(toLocal<3>(s, scene.grid));
         const ViewFrustum view(scene.camera, scene.grid);
-        double magnitude = 0;
-        for (const Shape<3>& s : world) {
-            const Box<3> b = boundsOf<3>(s);
-            for (int a = 0; a < 3; ++a) magnitude = std::max({magnitude, std::abs(b.min[a]), std::abs(b.max[a])});
-        }
-        const double slack = view.slack() + scene.grid.conversionSlack(magnitude);
+        const auto [world, local, slack] = localScene(scene, view);
         OcclusionBuffer3D coarse, fine;
         const int rows = std::array<int, 4>{8, 17, 32, 50}[k % 4], factor = 1 + int(k % 3);
         if (!coarse.begin(view, rows)) continue;

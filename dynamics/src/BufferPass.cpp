@@ -86,9 +86,11 @@ void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, Cul
             }
             return any;
         };
-        // Only an object whose centre is already behind some occluder drawn (its centre's pixel covered
-        // nearer than the object's nearest point) is one that sharper occluders may hide: an object seen
-        // through open space at its centre stays visible whatever is drawn. Occluders the walk drew do not
+        // Only an object whose centre is already behind some occluder drawn (its centre's pixel, or the
+        // border pixel nearest to a centre outside the image, covered nearer than the object's nearest
+        // point) is one that sharper occluders may hide: an object seen through open space at its centre
+        // stays visible whatever is drawn. (Centres outside the image matter: in the 100k room objects
+        // poking into the view from beside it got through when they were not asked.) Occluders the walk drew do not
         // ask (their own coarse image covers their centre; they are in the PVS either way).
         auto coveredBehind = [&](const BufferShape& x, double distance) {
             if constexpr (D == 3) {

@@ -476,11 +476,12 @@ bool OcclusionBuffer3D::coveredNearer(const Vec3& point, double limit) const {
     if (!m_active) return false;
     const Vec3 p = point - m_apex;
     const double z = glm::dot(p, m_forward);
-    if (!(z > 0)) return false;
+    if (!(z > 0)) return true; // no pixel: unknown
     const double x = glm::dot(p, m_right) / z, y = glm::dot(p, m_up) / z;
-    if (!(std::abs(x) < m_halfW) || !(std::abs(y) < m_halfH)) return false;
-    const int i = std::min(m_cols - 1, int((x + m_halfW) / m_pixelW));
-    const int j = std::min(m_rows - 1, int((y + m_halfH) / m_pixelH));
+    if (!std::isfinite(x) || !std::isfinite(y)) return true;
+    // Outside the image: the border pixel nearest to it (a shape poking into the view from beside it).
+    const int i = int(std::clamp((x + m_halfW) / m_pixelW, 0.0, double(m_cols - 1)));
+    const int j = int(std::clamp((y + m_halfH) / m_pixelH, 0.0, double(m_rows - 1)));
     return m_depth[std::size_t(j) * std::size_t(m_cols) + std::size_t(i)] < limit;
 }
 

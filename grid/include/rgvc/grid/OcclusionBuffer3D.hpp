@@ -124,7 +124,8 @@ public:
         return m_active && 2 * radius >= pixels * std::min(m_pixelW, m_pixelH) * std::max(nearest, 1e-300);
     }
     /// Whether some occluder drawn so far covers the pixel showing point p [voxel units, the grid's local
-    /// coordinates] nearer than `limit` (false for a point outside the image or behind the camera). A
+    /// coordinates] nearer than `limit` (a point outside the image reads the
+    /// border pixel nearest to it; one behind the camera answers true: unknown). A
     /// cost heuristic for callers deciding whether to draw more (refineWithBuffer), never a verdict.
     bool coveredNearer(const Vec3& p, double limit) const;
     /// The pixels the image of the shape grown by `grow` [voxel units] can touch, as inclusive column and
