@@ -55,12 +55,11 @@ void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, Cul
         // object's verdict is then what a fresh image with every kept object drawn would give it: every
         // occluder that fresh image would hold nearer than it and overlapping it is drawn at full
         // resolution. Drawing more is always sound; the rectangle test only saves work. Beyond kMaxLazy such
-        // occluders (a cloud of large spheres) the pairs would cost more than they save: they are all
-        // drawn in sorted order, as in a fresh image.
+        // occluders (a cloud of large spheres) the rectangle checks would cost more than they save: all
+        // are drawn in sorted order, as in a fresh image.
         constexpr std::size_t kMaxLazy = 32;
         auto& lazy = vs.lazyOccluders;
         lazy.clear();
-        const Vec<D> apex = view.apex();
         if constexpr (D == 3) {
             if (inherited) {
                 for (const auto& [distance, index] : bufferOrder) {
@@ -90,8 +89,8 @@ void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, Cul
         // border pixel nearest to a centre outside the image, covered nearer than the object's nearest
         // point) is one that sharper occluders may hide: an object seen through open space at its centre
         // stays visible whatever is drawn. (Centres outside the image matter: in the 100k room objects
-        // poking into the view from beside it got through when they were not asked.) Occluders the walk drew do not
-        // ask (their own coarse image covers their centre; they are in the PVS either way).
+        // poking into the view from beside it got through when they were not asked.) Occluders the walk
+        // drew do not ask (their own coarse image covers their centre; they are in the PVS either way).
         auto coveredBehind = [&](const BufferShape& x, double distance) {
             if constexpr (D == 3) {
                 if (vs.drawnStamp[x.slot] == vs.stamp) return false;
