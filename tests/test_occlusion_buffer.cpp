@@ -124,6 +124,30 @@ TEST_CASE("buffer: fixed occluders and occludees", "[buffer]") {
     }
 }
 
+TEST_CASE("buffer: a sphere in front of the camera is tested pixel by pixel", "[buffer]") {
+    // OcclusionBuffer3D::hiddenBall: each pixel against the nearest point of the sphere it shows. Behind
+    // the sphere S (14.5 degrees across its half-angle) lies a sphere 12 degrees across whose tangent
+    // rectangle's corners (16.8 degrees off the axis) S does not cover: the rectangle alone fails there,
+    // the pixels that show the sphere are all covered by S nearer than it.
+    const ViewFrustum view(lookingAlongZ(), kUnitGrid);
+    OcclusionBuffer3D buffer;
+    for (int rows : {64, 128, 256}) { // pixels under 1 degree: the margins below are 1.5 degrees and more
+        INFO("rows " << rows);
+        REQUIRE(buffer.begin(view, rows));
+        buffer.draw(Ball<3>{{50, 30, 20}, 5}, 0);
+        const double d = 45.2, deg = kPi / 180;
+        CHECK(buffer.hidden(Ball<3>{{50, 30, d}, d * std::sin(12 * deg)}, 0));
+        // Off the axis by 2 degrees: still inside S's silhouette.
+        CHECK(buffer.hidden(Ball<3>{{50 + d * std::tan(2 * deg), 30, d}, d * std::sin(11 * deg)}, 0));
+        // Wider than the silhouette by 1.5 degrees, centred or shifted: its rim is seen.
+        CHECK_FALSE(buffer.hidden(Ball<3>{{50, 30, d}, d * std::sin(16 * deg)}, 0));
+        CHECK_FALSE(buffer.hidden(Ball<3>{{50 + d * std::tan(4 * deg), 30, d}, d * std::sin(12 * deg)}, 0));
+        // In front of S's far side but behind its near side along every ray it is seen through: hidden
+        // only where S's entry is nearer; a sphere reaching in front of S's near surface is seen.
+        CHECK_FALSE(buffer.hidden(Ball<3>{{50, 30, 16}, 2}, 0));
+    }
+}
+
 TEST_CASE("buffer: an occludee grazing an occluder's silhouette is never hidden", "[buffer]") {
     // Sphere S in front; a sphere far behind whose cone pokes out of S's cone by a tiny angle on one side,
     // in random directions and sizes, at several buffer resolutions. The poking part is visible (a ray

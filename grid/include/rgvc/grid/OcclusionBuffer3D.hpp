@@ -170,6 +170,11 @@ private:
     double zMinOf(double nearest) const;
     bool scanFootprint(const Footprint& f, double nearest) const;
     bool canHide(const Vec3& p) const;
+    /// The exact per-pixel test of a sphere (apex-relative centre, grown radius) wholly in front of the
+    /// camera: every pixel showing part of it covered nearer than that part (OcclusionTests3D.cpp).
+    bool hiddenBall(const Vec3& c, double radius, double nearest);
+    std::vector<int> m_colRow;    // hiddenBall's column-edge critical points: pixel row (-1: none)
+    std::vector<double> m_colVal; // and their c.d
     /// centre, radius: the sphere whose bounding cube lo..hi is (parts missing it are skipped), or null.
     bool hiddenParts(const Vec3& lo, const Vec3& hi, int levels, const Vec3* centre, double radius) const;
     /// 1 / |forward + x_i right + y_j up| = 1 / sqrt(1 + x_i^2 + y_j^2) for lattice corner (i, j).
