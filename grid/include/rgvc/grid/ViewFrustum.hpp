@@ -56,11 +56,13 @@ private:
 /// Clips the row of voxels c + o with o[b1] in [u0, u1] to those that touch the frustum's cone, with
 /// the same test as ViewFrustum::touchesCone (the box corner farthest along each inward side normal),
 /// solved for the row coordinate: each side plane bounds u from one side. Cost O(1) per row instead
-/// of four dot products per voxel.
+/// of four dot products per voxel. planes: bit i set = side plane i is tested (a caller that knows a
+/// whole block lies on the inner side of plane i skips it: every row of the block passes it unclipped).
 inline bool clipVoxelRow(const ViewFrustum& f, const IVec3& c, const IVec3& o, int b1, std::int32_t& u0,
-                         std::int32_t& u1) {
+                         std::int32_t& u1, unsigned planes = 0xF) {
     const Vec3& apex = f.apex();
     for (int i = 0; i < 4; ++i) {
+        if (((planes >> i) & 1) == 0) continue;
         const Vec3& n = f.sideNormal(i);
         double rest = 0;
         for (int ax = 0; ax < 3; ++ax) {
