@@ -142,7 +142,13 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
     const BrickTraversalStats3D ts = vs.brickTraversal.run(
         grid, *vs.storage, view, vs.imageActive ? &image : nullptr, vs.stamp,
         [&](const IVec3& brick) { return tbvs.mayHoldBrick(brick); },
-        [&](VoxelKey key, const IVec3&) { storage.forEachId(key, [&](ObjectSlot slot) { classify(vs, slot, view); }); },
+        [&](VoxelKey key, const IVec3&) {
+            // An object is met in every voxel of it that the walk reads (a hundred for a sphere 5 voxels
+            // across) and classified at the first: the stamp is checked here, without the call.
+            storage.forEachId(key, [&](ObjectSlot slot) {
+                if (vs.classifiedStamp[slot] != vs.stamp) classify(vs, slot, view);
+            });
+        },
         [&](const IVec3& brick, const std::uint64_t visited[8]) {
             revealScratch.clear();
             // The visited voxels that hold some TBV, then those of them the image does not hide (a row's
@@ -233,7 +239,11 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewWedge& view, 
     const BrickTraversalStats2D ts = vs.brickTraversal.run(
         grid, *vs.storage, view, vs.imageActive ? &image : nullptr, vs.stamp,
         [&](const IVec2& brick) { return tbvs.mayHoldTile(brick); },
-        [&](VoxelKey key, const IVec2&) { storage.forEachId(key, [&](ObjectSlot slot) { classify(vs, slot, view); }); },
+        [&](VoxelKey key, const IVec2&) {
+            storage.forEachId(key, [&](ObjectSlot slot) { // (the stamp checked here, as in 3D)
+                if (vs.classifiedStamp[slot] != vs.stamp) classify(vs, slot, view);
+            });
+        },
         [&](const IVec2& v) {
             // The count first (one read), then the image, then the tile's list: next to a wall, the walk
             // reads bricks whose outer voxels are crossed by many TBV rings, all of them hidden.
