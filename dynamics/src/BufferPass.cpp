@@ -44,7 +44,14 @@ void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, Cul
             const double slack = grid.conversionSlack(r.at.worldMagnitude) + view.slack();
             bufferOrder.push_back({occlusionBuffer.nearestDistance(r.at.local, slack), std::uint32_t(bufferShapes.size())});
             const bool small = std::holds_alternative<Ball<D>>(r.at.local) || std::holds_alternative<Box<D>>(r.at.local);
-            bufferShapes.push_back({small ? r.at.local : Shape<D>{}, small ? nullptr : &r.at.local, r.at.occluder(), slack, slot});
+            // Filled in place: a braced temporary of the variant made GCC 12 warn (maybe-uninitialized,
+            // a false positive in std::variant's move) on every Release build.
+            BufferShape& shape = bufferShapes.emplace_back();
+            if (small) shape.small = r.at.local;
+            shape.large = small ? nullptr : &r.at.local;
+            shape.occluder = r.at.occluder();
+            shape.slack = slack;
+            shape.slot = slot;
         }
         std::sort(bufferOrder.begin(), bufferOrder.end());
         // The occluders the walk drew are in the inherited image at its coarser resolution, whose depths
