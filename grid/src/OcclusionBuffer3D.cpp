@@ -152,14 +152,24 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec
 }
 
 template <class FillRow, class OnPartial>
-void OcclusionBuffer3D::drawRect(const PixelRect& r, FillRow&& fillRow, OnPartial&& onPartial, bool partials) {
+void OcclusionBuffer3D::drawRect(const PixelRect& r, double nearest, FillRow&& fillRow, OnPartial&& onPartial, bool partials) {
     if (r.i0 > r.i1) return;
     // Two lattice rows at a time; the pixel loop uses selects, not jumps.
-    fillRow(r.j0, r.i0, r.i1 + 1, m_rowA.data());
+    // A pixel row whose depths over the rectangle are all at most `nearest` (no entry into the occluder
+    // is nearer, so no depth can fall) is skipped, with its rim: a fused depth at a pixel the occluder
+    // covers in part is no smaller either, since some of the pixel's rays enter only this occluder. A
+    // building behind nearer ones, or an occluder the inherited image already holds, draws only the
+    // rows where it can still lower something.
+    int inA = -1; // the lattice row m_rowA holds
     std::uint64_t covered = 0;
     for (int j = r.j0; j <= r.j1; ++j) {
-        fillRow(j + 1, r.i0, r.i1 + 1, m_rowB.data());
         double* row = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
+        bool open = false;
+        for (int i = r.i0; i <= r.i1; ++i) open = open | (row[i] > nearest); // vectorized
+        if (!open) continue;
+        if (inA != j) fillRow(j, r.i0, r.i1 + 1, m_rowA.data());
+        fillRow(j + 1, r.i0, r.i1 + 1, m_rowB.data());
+        inA = j + 1;
         const double* a = m_rowA.data();
         const double* b = m_rowB.data();
         for (int i = r.i0; i <= r.i1; ++i) { // branch-free: vectorized
@@ -214,7 +224,8 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
         const double cx = glm::dot(c, m_right), cy = glm::dot(c, m_up), cz = glm::dot(c, m_forward);
         const double rho2l2 = rho * rho - l2, scale = 1 + kRelMargin, pad = kRelMargin * len;
         const double* xs = m_cornerX.data();
-        drawRect(rectOf(c, rho), [&](int j, int i0, int i1, double* out) {
+        // Every entry written is at least the sphere's nearest distance |c| - rho (drawRect's row skip).
+        drawRect(rectOf(c, rho), (len - rho) * (1 - 1e-6), [&](int j, int i0, int i1, double* out) {
             const double yTerm = cz + m_cornerY[std::size_t(j)] * cy;
             const double* inv = m_invLen.data() + std::size_t(j) * std::size_t(m_cols + 1);
             for (int i = i0; i <= i1; ++i) {
@@ -264,11 +275,13 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
     // frame (a wall meeting another at a corner, seen at an angle): OcclusionSeams3D.cpp.
     const PixelRect rect = rectOf(lo, hi);
     const std::uint32_t seam = addSeamBox(lo, hi);
+    // Every entry written is at least the box's nearest distance (drawRect's row skip).
+    const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), lo, hi))) * (1 - 1e-6);
     auto onPartial = [&](int i, int j, unsigned corners) { notePartial(i, j, seam, corners); };
     bool onPlane = false; // the camera on a face plane: 0 / 0 in the slab test below
     for (int a = 0; a < 3; ++a) onPlane = onPlane || lo[a] == 0 || hi[a] == 0;
     if (onPlane) {
-        drawRect(rect, [&](int j, int i0, int i1, double* out) {
+        drawRect(rect, nearest, [&](int j, int i0, int i1, double* out) {
             for (int i = i0; i <= i1; ++i) out[i] = entry(i, j);
         }, onPartial, seam != 0);
         return;
@@ -281,7 +294,7 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
     // so every lo / D and hi / D is a number or an infinity of the right sign, never 0 / 0.
     const double m = kRelMargin, pad = kRelMargin * scale;
     const double* xs = m_cornerX.data();
-    drawRect(rect, [&](int j, int i0, int i1, double* out) {
+    drawRect(rect, nearest, [&](int j, int i0, int i1, double* out) {
         const double y = m_cornerY[std::size_t(j)];
         const Vec3 b = m_forward + y * m_up, r = m_right;
         const double* inv = m_invLen.data() + std::size_t(j) * std::size_t(m_cols + 1);
@@ -327,7 +340,9 @@ void OcclusionBuffer3D::drawPolytope(const ConvexPolytope& p, double shrink) {
     const double m = kRelMargin, pad = kRelMargin * scale;
     const Vec3* normals = m_planeN.data();
     const double* offsets = m_planeC.data();
-    drawRect(rectOf(lo, hi), [&](int j, int i0, int i1, double* out) {
+    // Every entry written is at least the nearest distance of the bounding box (drawRect's row skip).
+    const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), lo, hi))) * (1 - 1e-6);
+    drawRect(rectOf(lo, hi), nearest, [&](int j, int i0, int i1, double* out) {
         const double y = m_cornerY[std::size_t(j)];
         const Vec3 b = m_forward + y * m_up;
         const double* inv = m_invLen.data() + std::size_t(j) * std::size_t(m_cols + 1);

@@ -189,7 +189,8 @@ private:
     std::vector<Vec3> m_planeN;   // drawPolytope's apex-relative planes (kept: no allocation per draw)
     std::vector<double> m_planeC;
     template <class FillRow, class OnPartial>
-    void drawRect(const PixelRect& r, FillRow&& fillRow, OnPartial&& onPartial, bool partials = false);
+    /// nearest: a lower bound of every entry distance fillRow writes (rows that cannot be lowered are skipped).
+    void drawRect(const PixelRect& r, double nearest, FillRow&& fillRow, OnPartial&& onPartial, bool partials = false);
 
     // Seam fusion (OcclusionSeams3D.cpp): boxes drawn this frame with their image polygons, and per pixel
     // the first two boxes that covered only part of it.
