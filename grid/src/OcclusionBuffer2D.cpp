@@ -116,14 +116,18 @@ void OcclusionBuffer2D::boxExtent(const Vec2& lo, const Vec2& hi, double& x0, do
     // Measured from the centre, a point of the box: every corner is within (-pi, pi) of it (O is outside
     // the box, so the box lies in an open half-plane through O), and the extent is [min, max] of the
     // corners' angles (the box is the convex hull of its corners).
+    // In that half-plane the corners are ordered by angle, and the order is the sign of their cross
+    // products: the extreme two are found so, and only their angles are computed (two atan2 instead of
+    // four: they were 17 % of the instructions of rgvc_bench_classes' random 2D scenes). A sign that
+    // rounding gets wrong belongs to two corners within ~1e-16 rad of each other, far inside kAnglePad.
     const Vec2 r = 0.5 * (lo + hi);
-    double dMin = 0, dMax = 0;
-    for (int k = 0; k < 4; ++k) {
+    Vec2 qMin = lo, qMax = lo;
+    for (int k = 1; k < 4; ++k) {
         const Vec2 q{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y};
-        const double d = angleFrom(r, q);
-        dMin = std::min(dMin, d);
-        dMax = std::max(dMax, d);
+        if (cross2(qMin, q) < 0) qMin = q;
+        if (cross2(qMax, q) > 0) qMax = q;
     }
+    const double dMin = std::min(0.0, angleFrom(r, qMin)), dMax = std::max(0.0, angleFrom(r, qMax));
     const double x = binCoord(r);
     x0 = x + dMin - kAnglePad;
     x1 = x + dMax + kAnglePad;
