@@ -124,6 +124,39 @@ TEST_CASE("buffer: fixed occluders and occludees", "[buffer]") {
     }
 }
 
+TEST_CASE("buffer: a clipped draw writes only the pixels of its clip", "[buffer]") {
+    // OcclusionBuffer3D::draw with a clip (refineWithBuffer draws the walk's occluders again over the
+    // pixels of the one occludee that needs them): the same depths inside the clip, none outside.
+    const ViewFrustum view(lookingAlongZ(), kUnitGrid);
+    OcclusionBuffer3D full, clipped;
+    REQUIRE(full.begin(view, 64));
+    REQUIRE(clipped.begin(view, 64));
+    const Shape<3> wall = Box<3>{{20, 0, 20}, {80, 60, 21}};
+    const Shape<3> ball = Ball<3>{{50, 30, 15}, 4};
+    const ImageFootprint3D::Rect clip{10, 40, 20, 43}; // holds the image centre column, rows 27 and 36
+    for (const Shape<3>* s : {&wall, &ball}) {
+        full.draw(*s, 0);
+        clipped.draw(*s, 0, clip);
+    }
+    int inside = 0;
+    for (int j = 0; j < full.rows(); ++j)
+        for (int i = 0; i < full.cols(); ++i) {
+            const bool in = i >= clip.i0 && i <= clip.i1 && j >= clip.j0 && j <= clip.j1;
+            if (in) {
+                CHECK(clipped.depthAt(i, j) == full.depthAt(i, j));
+                inside += std::isfinite(full.depthAt(i, j));
+            } else {
+                CHECK(std::isinf(clipped.depthAt(i, j)));
+            }
+        }
+    CHECK(inside == (clip.i1 - clip.i0 + 1) * (clip.j1 - clip.j0 + 1)); // the wall covers the whole clip
+    // Behind the wall, inside the clip: hidden in both; outside it only in the full image.
+    CHECK(clipped.hidden(Ball<3>{{50, 27, 40}, 0.5}, 0));
+    CHECK(full.hidden(Ball<3>{{50, 27, 40}, 0.5}, 0));
+    CHECK(full.hidden(Ball<3>{{70, 50, 40}, 0.5}, 0));
+    CHECK_FALSE(clipped.hidden(Ball<3>{{70, 50, 40}, 0.5}, 0));
+}
+
 TEST_CASE("buffer: a sphere in front of the camera is tested pixel by pixel", "[buffer]") {
     // OcclusionBuffer3D::hiddenBall: each pixel against the nearest point of the sphere it shows. Behind
     // the sphere S (14.5 degrees across its half-angle) lies a sphere 12 degrees across whose tangent

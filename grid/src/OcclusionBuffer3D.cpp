@@ -152,8 +152,10 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec
 }
 
 template <class FillRow, class OnPartial>
-void OcclusionBuffer3D::drawRect(const PixelRect& r, double nearest, FillRow&& fillRow, OnPartial&& onPartial, bool partials) {
-    if (r.i0 > r.i1) return;
+void OcclusionBuffer3D::drawRect(const PixelRect& whole, double nearest, FillRow&& fillRow, OnPartial&& onPartial, bool partials) {
+    const PixelRect r{std::max(whole.i0, m_clip.i0), std::min(whole.i1, m_clip.i1), std::max(whole.j0, m_clip.j0),
+                      std::min(whole.j1, m_clip.j1)};
+    if (r.i0 > r.i1 || r.j0 > r.j1) return;
     // Two lattice rows at a time; the pixel loop uses selects, not jumps.
     // A pixel row whose depths over the rectangle are all at most `nearest` (no entry into the occluder
     // is nearer, so no depth can fall) is skipped, with its rim: a fused depth at a pixel the occluder

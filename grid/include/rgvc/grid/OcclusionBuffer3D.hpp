@@ -115,6 +115,14 @@ public:
     /// Draws the shape shrunk by `shrink` [voxel units, >= 0] as an occluder (nothing when the shrunk
     /// shape is empty or holds the camera).
     void draw(const Shape<3>& shape, double shrink);
+    /// As above, over the pixels of `clip` only (inclusive ranges, as pixelRect gives them): an occluder
+    /// drawn again for one occludee needs only the pixels that occludee's test reads. Drawing fewer
+    /// pixels is always sound (they only keep a larger depth).
+    void draw(const Shape<3>& shape, double shrink, const ImageFootprint3D::Rect& clip) {
+        m_clip = clip;
+        draw(shape, shrink);
+        m_clip = kNoClip;
+    }
 
     /// Whether an occluder of bounding radius `radius` whose nearest point is `nearest` away [voxel units]
     /// spans at least `pixels` pixels across: smaller ones cover too little of the image to hide a block
@@ -218,6 +226,8 @@ private:
     // are kept while those stay (a camera walk changes neither).
     std::vector<double> m_cornerX, m_cornerY, m_invLen;
     double m_latticeW = -1, m_latticeH = -1;
+    static constexpr ImageFootprint3D::Rect kNoClip{0, 1 << 30, 0, 1 << 30};
+    ImageFootprint3D::Rect m_clip = kNoClip; // drawRect draws only these pixels (draw with a clip)
     std::vector<double> m_rowA, m_rowB; // drawRect's corner entries of two lattice rows
     std::vector<std::uint8_t> m_corners; // drawRect: per pixel of a row, which corner rays hit (4 bits)
     OcclusionBufferStats m_stats;
