@@ -124,6 +124,28 @@ TEST_CASE("buffer: fixed occluders and occludees", "[buffer]") {
     }
 }
 
+TEST_CASE("buffer: a box is tested pixel by pixel against the nearest point each pixel shows", "[buffer]") {
+    // OcclusionBuffer3D::hiddenBoxExact. A wall across the view at z = 20..21, a flat box behind it at
+    // z = 23..24 reaching from the axis to the image's edge (30 degrees): the wall's depth there, 23.09,
+    // exceeds the box's one nearest distance, 23, so the footprint against that distance fails at the
+    // edge; the box's own entry through those pixels is 23 / cos 30 = 26.6, and every pixel hides it.
+    const ViewFrustum view(lookingAlongZ(), kUnitGrid);
+    OcclusionBuffer3D buffer;
+    for (int rows : {32, 64, 128}) {
+        INFO("rows " << rows);
+        REQUIRE(buffer.begin(view, rows));
+        buffer.draw(Box<3>{{0, 0, 20}, {100, 60, 21}}, 0);
+        CHECK(buffer.hidden(Box<3>{{50, 25, 23}, {80, 35, 24}}, 0));
+        CHECK(buffer.hidden(Box<3>{{20, 0, 23}, {80, 60, 24}}, 0)); // the whole view
+        // Reaching in front of the wall's near face: seen.
+        CHECK_FALSE(buffer.hidden(Box<3>{{50, 25, 19.5}, {80, 35, 24}}, 0));
+        // Beside the wall's image: a wall that ends at x = 60 leaves the box's far part open.
+        REQUIRE(buffer.begin(view, rows));
+        buffer.draw(Box<3>{{0, 0, 20}, {60, 60, 21}}, 0);
+        CHECK_FALSE(buffer.hidden(Box<3>{{50, 25, 23}, {80, 35, 24}}, 0));
+    }
+}
+
 TEST_CASE("buffer: a clipped draw writes only the pixels of its clip", "[buffer]") {
     // OcclusionBuffer3D::draw with a clip (refineWithBuffer draws the walk's occluders again over the
     // pixels of the one occludee that needs them): the same depths inside the clip, none outside.

@@ -181,8 +181,20 @@ private:
     /// The exact per-pixel test of a sphere (apex-relative centre, grown radius) wholly in front of the
     /// camera: every pixel showing part of it covered nearer than that part (OcclusionTests3D.cpp).
     bool hiddenBall(const Vec3& c, double radius, double nearest);
-    std::vector<int> m_colRow;    // hiddenBall's column-edge critical points: pixel row (-1: none)
-    std::vector<double> m_colVal; // and their c.d
+    /// The exact per-pixel test of a box (apex-relative, grown) over its footprint f: every pixel that
+    /// shows part of it covered nearer than that part (OcclusionTests3D.cpp).
+    bool hiddenBoxExact(const Vec3& lo, const Vec3& hi, double nearest, const Footprint& f);
+
+public:
+    /// Scratch of OcclusionTests3D.cpp's PixelMaxDot (the largest c.d over each pixel's rays): one per
+    /// vector tested at once. (Public only so that the implementation file's helper can name it.)
+    struct MaxDotScratch {
+        std::vector<int> colRow;
+        std::vector<double> colVal, rowA, rowB, out;
+    };
+
+private:
+    MaxDotScratch m_maxDot[3];
     /// centre, radius: the sphere whose bounding cube lo..hi is (parts missing it are skipped), or null.
     bool hiddenParts(const Vec3& lo, const Vec3& hi, int levels, const Vec3* centre, double radius) const;
     /// 1 / |forward + x_i right + y_j up| = 1 / sqrt(1 + x_i^2 + y_j^2) for lattice corner (i, j).
