@@ -59,10 +59,9 @@ void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, Cul
         // that can leave an object visible which the finer pixels would hide. Such an occluder is drawn
         // again over the object's pixels when an object behind it (farther by the sort key) whose image
         // may overlap its image (their outer pixel rectangles meet) fails its test, and the object is
-        // tested again. The
-        // object's verdict is then what a fresh image with every kept object drawn would give it: every
-        // occluder that fresh image would hold nearer than it and overlapping it is drawn at full
-        // resolution. Drawing more is always sound; the rectangle test only saves work. Beyond kMaxLazy such
+        // tested again. The object's verdict is then what a fresh image with every kept object drawn
+        // would give it: every occluder that fresh image would hold nearer than it and overlapping it is
+        // drawn at full resolution over the pixels its test reads. Drawing more is always sound; the rectangle test only saves work. Beyond kMaxLazy such
         // occluders (a cloud of large spheres) the rectangle checks would cost more than they save: all
         // are drawn in sorted order, as in a fresh image.
         constexpr std::size_t kMaxLazy = 32;

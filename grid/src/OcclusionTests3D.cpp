@@ -10,7 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <new>
+#include <optional>
 #include <type_traits>
 
 namespace rgvc {
@@ -369,7 +369,7 @@ public:
         std::size_t stride;        // cols + 1
         double halfW, halfH, pixelW, pixelH;
     };
-    using Scratch = OcclusionBuffer3D::MaxDotScratch;
+    using Scratch = ImageMaxDotScratch;
     PixelMaxDot(const Lattice& l, Scratch& s, const Vec3& c, double len, const ImageFootprint3D::Rect& r)
         : m_l(l), m_s(s), m_c(c), m_len(len), m_r(r), m_n(std::size_t(r.i1 - r.i0 + 2)) {
         if (m_s.colRow.size() < m_n) {
@@ -499,9 +499,8 @@ bool OcclusionBuffer3D::hiddenBoxExact(const Vec3& lo, const Vec3& hi, double ne
     if (r.i0 > r.i1) return true;
     const PixelMaxDot::Lattice lattice{m_cornerX.data(), m_cornerY.data(), m_invLen.data(), std::size_t(m_cols + 1),
                                        m_halfW, m_halfH, m_pixelW, m_pixelH};
-    // Up to three facing planes, each with its PixelMaxDot (constructed in place: they hold references).
-    alignas(PixelMaxDot) unsigned char storage[3][sizeof(PixelMaxDot)];
-    PixelMaxDot* axes[3];
+    // Up to three facing planes, each with its PixelMaxDot.
+    std::optional<PixelMaxDot> axes[3];
     double planes[3];
     int n = 0;
     for (int a = 0; a < 3; ++a) {
@@ -512,7 +511,7 @@ bool OcclusionBuffer3D::hiddenBoxExact(const Vec3& lo, const Vec3& hi, double ne
         Vec3 e(0.0);
         e[a] = s;
         const Vec3 cam{glm::dot(e, m_right), glm::dot(e, m_up), glm::dot(e, m_forward)};
-        axes[n] = new (storage[n]) PixelMaxDot(lattice, m_maxDot[n], cam, 1.0, r);
+        axes[n].emplace(lattice, m_maxDot[n], cam, 1.0, r);
         ++n;
     }
     bool hiddenAll = n > 0; // n = 0: the apex inside the box (callers never get here then)
@@ -537,7 +536,6 @@ bool OcclusionBuffer3D::hiddenBoxExact(const Vec3& lo, const Vec3& hi, double ne
             }
         }
     }
-    for (int k = 0; k < n; ++k) axes[k]->~PixelMaxDot();
     return hiddenAll;
 }
 

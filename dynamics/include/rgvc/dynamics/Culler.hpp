@@ -299,8 +299,8 @@ struct CullerOptions {
     /// starting at its coarse pixel's depth (OcclusionBuffer3D::beginRefined), and draws the occluders the
     /// walk drew again only where they may matter: once an object whose centre is already behind some
     /// occluder fails its test, the walk's occluders nearer than it whose image rectangles meet its own are
-    /// drawn at the finer resolution over that object's pixels and it is tested again (up to 32 such occluders; more, as in a cloud
-    /// of large spheres, are all drawn in order). false: a fresh image of occlusionBufferRows rows into
+    /// drawn at the finer resolution over that object's pixels and it is tested again (up to 32 such
+    /// occluders; more, as in a cloud of large spheres, are all drawn in order). false: a fresh image of occlusionBufferRows rows into
     /// which every kept object is drawn again (the walls and buildings the walk drew, twice per frame).
     /// Both are conservative and about as tight (README, "Scene classes": 22-32 % fewer instructions in
     /// closed rooms and 3D cities, |PVS| unchanged in the rooms).

@@ -76,6 +76,13 @@ struct ImageFootprint3D {
     double x[20], y[20];
 };
 
+/// Scratch of the per-pixel maximum of a dot product over a pixel's rays (PixelMaxDot in
+/// OcclusionTests3D.cpp). (Internal to the buffer; public so its implementation files can share it.)
+struct ImageMaxDotScratch {
+    std::vector<int> colRow;
+    std::vector<double> colVal, rowA, rowB, out;
+};
+
 class OcclusionBuffer3D {
 public:
     /// [Limit] rows of a buffer; columns follow the aspect, also at most this.
@@ -102,10 +109,10 @@ public:
     /// the view is visible past the occluders drawn so far.
     bool hidden(const Shape<3>& shape, double grow) { return hidden(shape, grow, nearestDistance(shape, grow)); }
     /// As above, with nearest = nearestDistance(shape, grow) already known (the front-to-back sort key).
-    /// @param refine  whether a shape whose one footprint fails is split into parts tested one by one
-    ///                (two levels of 8, see OcclusionBuffer3D.cpp): false for callers that test finer
-    ///                boxes themselves when a coarse one fails (clearHiddenVoxels), which would pay for
-    ///                the parts twice.
+    /// @param refine  whether a box whose one footprint fails is tested further, pixel by pixel (or, for a
+    ///                ball reaching behind the camera, split into parts; OcclusionTests3D.cpp): false for
+    ///                callers that test finer boxes themselves when a coarse one fails
+    ///                (clearHiddenVoxels), which would pay for the refinement twice.
     bool hidden(const Shape<3>& shape, double grow, double nearest, bool refine = true);
     /// The one-footprint test of a box, without the refinement (see refine above).
     bool hiddenCoarse(const Box<3>& box, double grow) {
@@ -184,17 +191,7 @@ private:
     /// The exact per-pixel test of a box (apex-relative, grown) over its footprint f: every pixel that
     /// shows part of it covered nearer than that part (OcclusionTests3D.cpp).
     bool hiddenBoxExact(const Vec3& lo, const Vec3& hi, double nearest, const Footprint& f);
-
-public:
-    /// Scratch of OcclusionTests3D.cpp's PixelMaxDot (the largest c.d over each pixel's rays): one per
-    /// vector tested at once. (Public only so that the implementation file's helper can name it.)
-    struct MaxDotScratch {
-        std::vector<int> colRow;
-        std::vector<double> colVal, rowA, rowB, out;
-    };
-
-private:
-    MaxDotScratch m_maxDot[3];
+    ImageMaxDotScratch m_maxDot[3]; // hiddenBall, hiddenBoxExact: one per vector tested at once
     /// centre, radius: the sphere whose bounding cube lo..hi is (parts missing it are skipped), or null.
     bool hiddenParts(const Vec3& lo, const Vec3& hi, int levels, const Vec3* centre, double radius) const;
     /// 1 / |forward + x_i right + y_j up| = 1 / sqrt(1 + x_i^2 + y_j^2) for lattice corner (i, j).
