@@ -175,8 +175,9 @@ private:
     /// Entry distance along unit ray u into the intersection of m_planes (see the header), or -1 when the
     /// ray does not pass through it with room to spare. scale: the shape's magnitude (absolute margin).
     double planeEntry(double ux, double uy, double scale) const;
-    /// Draws over the runs of [x0, x1]: entry(ux, uy) is the entry distance along a boundary ray, or < 0.
-    template <class Entry> void drawRuns(double x0, double x1, Entry&& entry);
+    /// Draws over the runs of [x0, x1]: fill(i0, i1, out) writes out[i], for boundary rays i0..i1, the entry
+    /// distance along ray i, or < 0 where the ray does not pass through the occluder's interior.
+    template <class Fill> void drawRuns(double x0, double x1, Fill&& fill);
 
     Vec2 m_apex{0.0}, m_dir{1.0, 0.0};
     double m_half = 0, m_span = 0, m_binW = 0;
@@ -190,6 +191,7 @@ private:
     double m_cacheHalf = -1;
     int m_cacheBins = 0;
     std::vector<HalfPlane> m_planes; // draw()'s scratch
+    std::vector<double> m_entries;   // draw()'s scratch: the boundary rays' entry distances (bins + 1)
     OcclusionBuffer2DStats m_stats;
 };
 
