@@ -80,7 +80,8 @@ const Silhouettes& silhouettes() {
 
 } // namespace
 
-bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f, bool forSeams) const {
+bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f, bool forSeams,
+                                     double coveredBelow) const {
     // The box's points in the view at distance >= nearest have z >= zMin (zMinOf), so the image of the box
     // clipped to the half-space z >= zMin holds every pixel that can show one of them. The clipped box is a
     // convex polytope whose vertices are the corners with z >= zMin and the points where the box's edges
@@ -95,6 +96,7 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
         anyFront = anyFront || zc[k] >= zMin;
     }
     f.n = 0;
+    f.covered = false;
     if (!(zMin > 0)) {
         f.rect = wholeImage();
         return true;
@@ -136,6 +138,13 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
     f.rect = pixelsOf(x0 - f.padX, x1 + f.padX, y0 - f.padY, y1 + f.padY);
     // A rectangle of 2 x 2 pixels or less gains nothing from the polygon.
     if (f.rect.i1 - f.rect.i0 < 2 && f.rect.j1 - f.rect.j0 < 2 && !forSeams) return true;
+    // The rectangle holds the polygon: when every pixel of it is covered nearer than the occludee, so is
+    // every pixel of the polygon, and the polygon and its per-row spans (which cost more than the pixels)
+    // are not needed. Behind a wall that is the whole test (the closed rooms' TBV voxels and bricks).
+    if (coveredBelow > 0 && scanFootprint(f, coveredBelow)) {
+        f.covered = true;
+        return true;
+    }
     // A box wholly in front of the plane, seen from outside every slab's boundary plane: its image's
     // vertices from the table (Silhouettes, above), oriented counter-clockwise.
     if (allFront) {
@@ -294,16 +303,16 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
             m_stats.hidden += h;
             return h;
         }
-        inView = footprintOf(lo, hi, zMinOf(nearest), f);
+        inView = footprintOf(lo, hi, zMinOf(nearest), f, false, nearest);
     } else {
         // A box, or a polytope's bounding box: its footprint holds the polytope's (the test is then for
         // the box, which contains the polytope: conservative).
         const Box<3> box = boundsOf<3>(shape);
         lo = box.min - grow - m_apex;
         hi = box.max + grow - m_apex;
-        inView = footprintOf(lo, hi, zMinOf(nearest), f);
+        inView = footprintOf(lo, hi, zMinOf(nearest), f, false, nearest);
     }
-    if (!inView || scanFootprint(f, nearest)) {
+    if (!inView || f.covered || scanFootprint(f, nearest)) {
         ++m_stats.hidden;
         return true;
     }
@@ -607,7 +616,7 @@ bool OcclusionBuffer3D::hiddenParts(const Vec3& lo, const Vec3& hi, int levels, 
         const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), l, h))) * (1 - kRelMargin);
         if (!(nearest > 0)) return false;
         Footprint f;
-        if (!footprintOf(l, h, zMinOf(nearest), f) || scanFootprint(f, nearest)) continue;
+        if (!footprintOf(l, h, zMinOf(nearest), f, false, nearest) || f.covered || scanFootprint(f, nearest)) continue;
         if (levels <= 1 || !canHide(0.5 * (l + h)) || !hiddenParts(l, h, levels - 1, centre, radius)) return false;
     }
     return true;

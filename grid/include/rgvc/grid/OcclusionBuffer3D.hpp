@@ -74,6 +74,7 @@ struct ImageFootprint3D {
     int n = 0;
     double padX = 0, padY = 0;
     double x[20], y[20];
+    bool covered = false; // footprintOf with coveredBelow: the rectangle alone proved the test (n = 0)
 };
 
 /// Scratch of the per-pixel maximum of a dot product over a pixel's rays (PixelMaxDot in
@@ -175,7 +176,10 @@ private:
     /// The footprint of the box (apex-relative) clipped to z >= zMin (z along forward). False when no
     /// point of the box has z >= zMin (none is in view).
     /// forSeams: always compute the polygon (otherwise a footprint of 2 x 2 pixels or less keeps n = 0).
-    bool footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f, bool forSeams = false) const;
+    /// coveredBelow: when > 0 and every pixel of the footprint's rectangle has a depth below it, stops with
+    /// the rectangle (n = 0) and f.covered set: an occludee test that the rectangle passes needs no polygon.
+    bool footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f, bool forSeams = false,
+                     double coveredBelow = 0) const;
     /// The columns of pixel row j the footprint can touch; false when none.
     bool rowSpan(const Footprint& f, int j, int& i0, int& i1) const;
     /// Occludee tests (OcclusionBuffer3D.cpp): the smallest z of a point in view at distance >= nearest;
