@@ -17,6 +17,7 @@
 
 #include "rgvc/dynamics/Culler.hpp"
 #include "rgvc/grid/BrickPyramid.hpp"
+#include "rgvc/grid/ViewFrustum.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -445,4 +446,41 @@ TEST_CASE("brick pyramid: marks and clears propagate exactly", "[grid][brick]") 
         }
         CHECK(p.dims(p.levels() - 1) == IVec3(1));
     }
+}
+
+TEST_CASE("brick traversal: the per-brick row clipper gives clipVoxelRow's spans", "[grid][brick]") {
+    // BrickTraversal3D clips a brick's rows with VoxelRowClipper, which picks each straddled side plane's
+    // terms once per brick; it must keep exactly the voxels clipVoxelRow keeps (which ViewFrustum's
+    // tests pin), for any plane subset, any camera (inside the grid or not, on voxel faces), any fov.
+    const std::uint64_t seed = 990100;
+    std::mt19937_64 rng(seed);
+    const GridGeometry3 grid(Vec3(0.0), 1.0, {64, 32, 64});
+    std::uniform_real_distribution<double> pos(-20, 84), unit(-1, 1), fov(1, 170);
+    long rows = 0, clipped = 0;
+    for (int k = 0; k < 400; ++k) {
+        Vec3 eye{pos(rng), pos(rng) * 0.5, pos(rng)};
+        if (k % 4 == 0) eye = glm::floor(eye); // on voxel corners
+        Vec3 dir{unit(rng), unit(rng), unit(rng)};
+        if (k % 7 == 0) dir = {0, 0, 1}; // planes parallel to x
+        if (lengthSquared<3>(dir) < 1e-6) dir = {1, 0, 0};
+        const ViewFrustum view(rgvc::culler_test::makeCamera(eye, dir, fov(rng), kInf, 1 + (k % 3) * 0.5), grid);
+        const unsigned planes = unsigned(k % 16);
+        const VoxelRowClipper clipper(view, planes);
+        for (std::int32_t z = 0; z < 64; z += 3)
+            for (std::int32_t y = 0; y < 32; y += 2) {
+                std::int32_t a0 = 8 * (k % 8), a1 = a0 + 7, b0 = a0, b1 = a1;
+                const bool a = clipVoxelRow(view, IVec3(0), IVec3{0, y, z}, 0, a0, a1, planes);
+                const bool b = clipper.clip(y, z, b0, b1);
+                ++rows;
+                if (a != b || (a && (a0 != b0 || a1 != b1))) {
+                    UNSCOPED_INFO("seed " << seed << " case " << k << " row " << y << ", " << z);
+                    REQUIRE(a == b);
+                    REQUIRE(a0 == b0);
+                    REQUIRE(a1 == b1);
+                }
+                clipped += !a || a0 > 8 * (k % 8) || a1 < 8 * (k % 8) + 7;
+            }
+    }
+    std::printf("[brick] row clipper: %ld rows compared, %ld of them clipped, all equal\n", rows, clipped);
+    CHECK(clipped > rows / 10);
 }

@@ -94,7 +94,10 @@ template <int D> GridGeometry<D> scaledGrid(const GridGeometry<D>& g, double k) 
 
 template <int D> std::string gridText(const GridGeometry<D>& g) {
     std::string s = std::to_string(g.resolution()[0]);
-    for (int k = 1; k < D; ++k) s += "x" + std::to_string(g.resolution()[k]);
+    for (int k = 1; k < D; ++k) { // appended in two steps: "x" + to_string made GCC 12 warn (-Wrestrict, a false positive)
+        s += 'x';
+        s += std::to_string(g.resolution()[k]);
+    }
     return s;
 }
 

@@ -97,4 +97,60 @@ inline bool clipVoxelRow(const ViewFrustum& f, const IVec3& c, const IVec3& o, i
     return true;
 }
 
+/// clipVoxelRow for rows along x (b1 = 0, c = 0, o = (0, y, z)), with the planes' per-axis terms chosen
+/// once: the brick traversal clips each of a brick's 64 rows against the one or two side planes the
+/// brick straddles. The same arithmetic in the same order as clipVoxelRow (rest = term_y + term_z, the
+/// same slack, bound and rounding), so the same spans.
+class VoxelRowClipper {
+public:
+    VoxelRowClipper(const ViewFrustum& f, unsigned planes) : m_slack(f.slack()), m_apexX(f.apex().x) {
+        const Vec3& apex = f.apex();
+        for (int i = 0; i < 4; ++i) {
+            if (((planes >> i) & 1) == 0) continue;
+            const Vec3& n = f.sideNormal(i);
+            Plane& p = m_planes[m_count++];
+            p.ny = n.y;
+            p.nz = n.z;
+            p.nb = n.x;
+            p.addY = n.y > 0 ? 1.0 : 0.0;
+            p.addZ = n.z > 0 ? 1.0 : 0.0;
+            p.apexY = apex.y;
+            p.apexZ = apex.z;
+        }
+    }
+    /// The voxels x in [u0, u1] of row (y, z) that touch the cone; false when none.
+    bool clip(std::int32_t y, std::int32_t z, std::int32_t& u0, std::int32_t& u1) const {
+        for (int k = 0; k < m_count; ++k) {
+            const Plane& p = m_planes[k];
+            const double rest = p.ny * ((double(y) + p.addY) - p.apexY) + p.nz * ((double(z) + p.addZ) - p.apexZ);
+            const double slack = m_slack + 1e-12 * (std::abs(rest) + 1.0);
+            if (p.nb == 0) {
+                if (rest < -slack) return false;
+                continue;
+            }
+            const double bound = (-slack - rest) / p.nb;
+            if (std::isnan(bound)) continue;
+            if (p.nb > 0) {
+                const double x = std::clamp(bound + m_apexX - 1.0 - 0.0 - 1e-9, -1e9, 1e9);
+                const auto u = std::int32_t(x) + std::int32_t(double(std::int32_t(x)) < x); // ceil
+                if (u > u0) u0 = u;
+            } else {
+                const double x = std::clamp(bound + m_apexX - 0.0 + 1e-9, -1e9, 1e9);
+                const auto u = std::int32_t(x) - std::int32_t(double(std::int32_t(x)) > x); // floor
+                if (u < u1) u1 = u;
+            }
+            if (u0 > u1) return false;
+        }
+        return true;
+    }
+
+private:
+    struct Plane {
+        double ny, nz, nb, addY, addZ, apexY, apexZ;
+    };
+    Plane m_planes[4];
+    int m_count = 0;
+    double m_slack, m_apexX;
+};
+
 } // namespace rgvc

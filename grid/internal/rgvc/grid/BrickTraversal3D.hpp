@@ -143,6 +143,7 @@ private:
             if (!(nearest > 0)) straddled |= 1u << i;
         }
         const bool inCone = straddled == 0;
+        const VoxelRowClipper clipper(frustum, straddled);
         int rows = 0;
         for (std::int32_t z = lo.z; z < hi.z; ++z)
             for (std::int32_t y = lo.y; y < hi.y; ++y) {
@@ -160,7 +161,7 @@ private:
                 r.ids = ids;
                 r.u0 = lo.x;
                 r.u1 = hi.x - 1;
-                if (!inCone && !clipVoxelRow(frustum, IVec3(0), IVec3{0, y, z}, 0, r.u0, r.u1, straddled)) r.u0 = 1, r.u1 = 0;
+                if (!inCone && !clipper.clip(y, z, r.u0, r.u1)) r.u0 = 1, r.u1 = 0;
                 if (image == nullptr || opaque == 0) continue;
                 for (std::int32_t x = r.u0; x <= r.u1; ++x)
                     if (((opaque >> (x - lo.x)) & 1) != 0 && !storage.used(VoxelKey(r.key + std::uint32_t(x)), stamp))
