@@ -274,7 +274,7 @@ template <int D, class MakeScene> void orthoScenes(const char* name, int scenes,
     REQUIRE(misses == 0);
     REQUIRE(wrongKeeps == 0);
     REQUIRE(differ == 0);
-    REQUIRE(mustCull > objectsTotal / 4); // the box culls
+    REQUIRE(std::size_t(mustCull) > objectsTotal / 4); // the box culls
 }
 
 } // namespace

@@ -78,11 +78,14 @@ void OcclusionBuffer3D::startImage() {
         for (int i = 0; i <= m_cols; ++i) m_cornerX[std::size_t(i)] = -m_halfW + i * m_pixelW;
         for (int j = 0; j <= m_rows; ++j) m_cornerY[std::size_t(j)] = -m_halfH + j * m_pixelH;
         m_invLen.resize(std::size_t(m_rows + 1) * std::size_t(m_cols + 1));
+        m_len.resize(m_invLen.size());
         // forward, right and up are orthonormal: |forward + x right + y up|^2 = 1 + x^2 + y^2.
         for (int j = 0; j <= m_rows; ++j)
             for (int i = 0; i <= m_cols; ++i) {
                 const double x = m_cornerX[std::size_t(i)], y = m_cornerY[std::size_t(j)];
-                m_invLen[std::size_t(j) * std::size_t(m_cols + 1) + std::size_t(i)] = 1.0 / std::sqrt(1.0 + x * x + y * y);
+                const std::size_t k = std::size_t(j) * std::size_t(m_cols + 1) + std::size_t(i);
+                m_len[k] = std::sqrt(1.0 + x * x + y * y);
+                m_invLen[k] = 1.0 / m_len[k];
             }
         m_latticeW = m_halfW;
         m_latticeH = m_halfH;
@@ -294,20 +297,25 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
     // s D, and the distance is t = s |D| = s / invLength; the conditions scale by |D| > 0, so they read
     // the same in s, with the 1e-300 kept un-divided (stricter, |D| >= 1). No face plane holds the camera,
     // so every lo / D and hi / D is a number or an infinity of the right sign, never 0 / 0.
+    // Three reciprocals, not six quotients, and |D| from its lattice, not a seventh division: the row was
+    // bound by the divider. lo * (1 / d) is within 2 ulps of lo / d (and an infinity of the same sign where
+    // d is 0 or 1 / d overflows, which only takes the ray out of the test), far inside the relative margin
+    // m = 1e-9 that every entry and "passes through" test carries.
     const double m = kRelMargin, pad = kRelMargin * scale;
     const double* xs = m_cornerX.data();
     drawRect(rect, nearest, [&](int j, int i0, int i1, double* out) {
         const double y = m_cornerY[std::size_t(j)];
         const Vec3 b = m_forward + y * m_up, r = m_right;
-        const double* inv = m_invLen.data() + std::size_t(j) * std::size_t(m_cols + 1);
+        const double* len = m_len.data() + std::size_t(j) * std::size_t(m_cols + 1);
         for (int i = i0; i <= i1; ++i) {
             const double x = xs[i];
             const double dx = b.x + x * r.x, dy = b.y + x * r.y, dz = b.z + x * r.z;
-            const double x1 = lo.x / dx, x2 = hi.x / dx, y1 = lo.y / dy, y2 = hi.y / dy, z1 = lo.z / dz, z2 = hi.z / dz;
+            const double rx = 1.0 / dx, ry = 1.0 / dy, rz = 1.0 / dz;
+            const double x1 = lo.x * rx, x2 = hi.x * rx, y1 = lo.y * ry, y2 = hi.y * ry, z1 = lo.z * rz, z2 = hi.z * rz;
             const double e = std::max(std::max(std::min(x1, x2), std::min(y1, y2)), std::min(z1, z2));
             const double f = std::min(std::min(std::max(x1, x2), std::max(y1, y2)), std::max(z1, z2));
             const bool ok = (e > 0) & (f - e > m * f + 1e-300);
-            const double t = (e / inv[i]) * (1 + m) + pad;
+            const double t = (e * len[i]) * (1 + m) + pad;
             out[i] = ok ? t : -1.0;
         }
     }, onPartial, seam != 0);

@@ -237,7 +237,7 @@ private:
     // The lattice of pixel corners on the image plane: x_i, y_j and the inverse lengths of their rays.
     // They depend on the fov, aspect and rows only, not on the camera's position or orientation, so they
     // are kept while those stay (a camera walk changes neither).
-    std::vector<double> m_cornerX, m_cornerY, m_invLen;
+    std::vector<double> m_cornerX, m_cornerY, m_invLen, m_len; // m_len: |forward + x right + y up|
     double m_latticeW = -1, m_latticeH = -1;
     static constexpr ImageFootprint3D::Rect kNoClip{0, 1 << 30, 0, 1 << 30};
     ImageFootprint3D::Rect m_clip = kNoClip; // drawRect draws only these pixels (draw with a clip)
