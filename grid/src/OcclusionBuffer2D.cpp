@@ -188,7 +188,7 @@ double OcclusionBuffer2D::nearestDistance(const Shape<2>& shape, double grow) co
     return std::max(0.0, std::sqrt(best) - grow);
 }
 
-bool OcclusionBuffer2D::hidden(const Shape<2>& shape, double grow, double distance) {
+bool OcclusionBuffer2D::hidden(const Shape<2>& shape, double grow, double distance, bool refine) {
     if (!m_active) return false;
     ++m_stats.tested;
     Box<2> bounds;
@@ -243,7 +243,7 @@ bool OcclusionBuffer2D::hidden(const Shape<2>& shape, double grow, double distan
     }
     // Refinement (see the header): the bounding box in quarters, two levels deep, after the early-out on
     // its centre.
-    if (!canHide(0.5 * (lo + hi))) return false;
+    if (!refine || !canHide(0.5 * (lo + hi))) return false;
     if (!hiddenParts(lo, hi, 2, pad, minNearest)) return false;
     ++m_stats.hidden;
     return true;

@@ -134,7 +134,13 @@ public:
     /// the view wedge is visible past the occluders drawn so far (the wedge's far limit ignored).
     bool hidden(const Shape<2>& shape, double grow) { return hidden(shape, grow, nearestDistance(shape, grow)); }
     /// As above, with nearest = nearestDistance(shape, grow) already known (the front-to-back sort key).
-    bool hidden(const Shape<2>& shape, double grow, double nearest);
+    /// refine: whether a shape whose one extent fails is split into quarters (see Refinement above).
+    bool hidden(const Shape<2>& shape, double grow, double nearest, bool refine = true);
+    /// The one-extent test of a box, without the refinement.
+    bool hiddenCoarse(const Box<2>& box, double grow) {
+        const Shape<2> s(box);
+        return hidden(s, grow, nearestDistance(s, grow), false);
+    }
 
     /// Draws the shape shrunk by `shrink` [voxel units, >= 0] as an occluder (nothing when the shrunk shape
     /// is empty or holds or touches the camera).

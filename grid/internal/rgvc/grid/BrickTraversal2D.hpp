@@ -81,7 +81,11 @@ public:
                     ++st.nodesOutside;
                     return true;
                 }
-                if (image != nullptr && image->hidden(Box<2>{loF, hiF}, grow)) {
+                // As in 3D (BrickTraversal3D.hpp): a node above the bricks takes the one-extent test, since
+                // its children, tested next when it fails, are the quarters the refinement would split it
+                // into; a brick keeps the refinement (its voxels are read when it fails).
+                const bool brick = hi.x - lo.x <= BrickPyramid<2>::kBrickSize && hi.y - lo.y <= BrickPyramid<2>::kBrickSize;
+                if (image != nullptr && (brick ? image->hidden(Box<2>{loF, hiF}, grow) : image->hiddenCoarse(Box<2>{loF, hiF}, grow))) {
                     ++st.nodesHidden;
                     return true;
                 }
