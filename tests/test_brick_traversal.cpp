@@ -16,7 +16,9 @@
 #include "CullerTestSupport.hpp"
 
 #include "rgvc/dynamics/Culler.hpp"
+#include "rgvc/grid/BrickObjects.hpp"
 #include "rgvc/grid/BrickPyramid.hpp"
+#include "rgvc/grid/ConservativeRaster.hpp"
 #include "rgvc/grid/ViewFrustum.hpp"
 
 #include <catch2/catch.hpp>
@@ -483,4 +485,63 @@ TEST_CASE("brick traversal: the per-brick row clipper gives clipVoxelRow's spans
     }
     std::printf("[brick] row clipper: %ld rows compared, %ld of them clipped, all equal\n", rows, clipped);
     CHECK(clipped > rows / 10);
+}
+
+TEST_CASE("brick objects: an object is listed in every brick its footprint in I reaches", "[grid][brick]") {
+    // BrickObjects::boxOf (the lists the brick walk meets objects through, instead of the voxels' ids)
+    // must hold every brick with a voxel forEachTouchedVoxel gives for the shape and its slack, for
+    // shapes on voxel faces and brick faces, tiny and huge, partly outside the grid; and the lists must
+    // follow adds and removes exactly (against a model).
+    const std::uint64_t seed = 990200;
+    std::mt19937_64 rng(seed);
+    const IVec3 res{40, 24, 33}; // not multiples of 8: partial bricks at the far faces
+    BrickObjects<3> lists(res);
+    std::uniform_real_distribution<double> pos(-6, 46), size(1e-3, 12), unit(0, 1);
+    std::vector<std::pair<ObjectSlot, BrickBox<3>>> model;
+    long voxels = 0;
+    for (int k = 0; k < 600; ++k) {
+        Vec3 c{pos(rng), pos(rng) * 0.6, pos(rng)};
+        if (k % 3 == 0) c = glm::floor(c);             // on voxel faces
+        if (k % 6 == 0) c = glm::floor(c / 8.0) * 8.0; // on brick faces
+        const double r = size(rng), slack = k % 4 == 0 ? 0.0 : 1e-9 * double(k % 7);
+        Shape<3> shape;
+        if (k % 5 == 0) shape = Box<3>{glm::floor(c), glm::floor(c) + glm::floor(Vec3{r, 0.5 * r, 2}) + 1.0}; // whole voxels
+        else if (k % 2 == 0) shape = Ball<3>{c, r};
+        else shape = Box<3>{c - Vec3{r, 0.5 * r, 0.25 * r}, c + Vec3{0.3 * r, r, r}};
+        const BrickBox<3> box = lists.boxOf(boundsOf<3>(shape), slack);
+        forEachTouchedVoxel<3>(shape, res, [&](const IVec3& v) {
+            const IVec3 b = v >> BrickPyramid<3>::kBrickShift;
+            ++voxels;
+            if (box.empty() || glm::any(glm::lessThan(b, box.lo)) || glm::any(glm::greaterThan(b, box.hi))) {
+                UNSCOPED_INFO("seed " << seed << " case " << k << " voxel " << v.x << ", " << v.y << ", " << v.z);
+                REQUIRE(false);
+            }
+        }, slack);
+        // Adds and removes against the model.
+        const ObjectSlot slot = ObjectSlot(k);
+        lists.add(slot, box);
+        model.emplace_back(slot, box);
+        if (unit(rng) < 0.4 && !model.empty()) {
+            const std::size_t i = std::size_t(rng() % model.size());
+            lists.remove(model[i].first, model[i].second);
+            model.erase(model.begin() + std::ptrdiff_t(i));
+        }
+    }
+    long listed = 0;
+    for (std::int32_t z = 0; z < 5; ++z)
+        for (std::int32_t y = 0; y < 3; ++y)
+            for (std::int32_t x = 0; x < 5; ++x) {
+                const IVec3 b{x, y, z};
+                std::vector<ObjectSlot> want;
+                for (const auto& [slot, box] : model)
+                    if (!box.empty() && glm::all(glm::greaterThanEqual(b, box.lo)) && glm::all(glm::lessThanEqual(b, box.hi)))
+                        want.push_back(slot);
+                std::vector<ObjectSlot> got = lists.at(b);
+                std::sort(want.begin(), want.end());
+                std::sort(got.begin(), got.end());
+                CHECK(got == want);
+                listed += long(got.size());
+            }
+    std::printf("[brick] object lists: %ld touched voxels inside their boxes, %ld listings after the removals\n", voxels, listed);
+    CHECK(voxels > 10000);
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 #include <cmath>
 #include <numbers>
 #include <variant>
@@ -175,7 +176,26 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
             for (ObjectSlot slot : revealScratch)
                 if (records[slot].state == State::Hidden) tbvMet(vs, slot, st);
         },
-        [&](VoxelKey seed, const IVec3& lo, const IVec3& hi) { return boxObjectHolds(seed, lo, hi); });
+        [&](VoxelKey seed, const IVec3& lo, const IVec3& hi) { return boxObjectHolds(seed, lo, hi); },
+        [&](const IVec3& brick) {
+            // The brick's objects (BrickObjects.hpp: a superset of those with ids in it), met once per
+            // brick instead of once per voxel in view; the stamp checked here, as for the ids.
+            const std::vector<ObjectSlot>& list = brickObjects.at(brick);
+#ifndef NDEBUG
+            // The lists' invariant: every id in a voxel of the brick is listed in it.
+            const IVec3 o = brick * BrickPyramid<3>::kBrickSize, hi = glm::min(o + BrickPyramid<3>::kBrickSize, grid.resolution());
+            for (std::int32_t z = o.z; z < hi.z; ++z)
+                for (std::int32_t y = o.y; y < hi.y; ++y)
+                    for (std::int32_t x = o.x; x < hi.x; ++x)
+                        vs.storage->forEachId(grid.linearIndex(IVec3{x, y, z}), [&](ObjectSlot s) {
+                            assert(std::find(list.begin(), list.end(), s) != list.end());
+                            (void)s;
+                        });
+#endif
+            for (std::size_t i = 0; i < list.size(); ++i)
+                if (vs.classifiedStamp[list[i]] != vs.stamp) classify(vs, list[i], view);
+            return !list.empty();
+        });
     finishWalk(vs, view, st, ts.voxelsVisited, ts.nodesVisited, ts.nodesEmpty, ts.nodesHidden, ts.bricksVisited, ts.fusedBoxes);
 }
 

@@ -18,6 +18,7 @@
 #pragma once
 
 #include "rgvc/dynamics/Culler.hpp"
+#include "rgvc/grid/BrickObjects.hpp"
 
 #include "rgvc/grid/BrickTraversal2D.hpp"
 #include "rgvc/grid/BrickTraversal3D.hpp"
@@ -89,6 +90,7 @@ template <int D> struct Culler<D>::Impl {
         TbvRegion<D> tbv;
         std::uint64_t tbvExpiry = 0;    // first frame the TBV no longer covers
         std::uint32_t tbvGeneration = 0;
+        BrickBox<D> listedIn;           // 3D: the bricks whose lists hold it while it is in I (BrickObjects.hpp)
     };
 
     GridGeometry<D> grid;
@@ -191,9 +193,12 @@ template <int D> struct Culler<D>::Impl {
     // otherwise. A move rasterizes only its new placement; a removal takes out exactly what was put in.
     std::vector<RowFootprint> footprints;
     RowFootprint nextFootprint; // reused by every move (no allocation per update after warm-up)
+    // 3D: the objects in I per brick, which the brick walk meets instead of the voxels' ids.
+    BrickObjects<D> brickObjects;
 
     Impl(const GridGeometry<D>& g, const CullerOptions& o)
-        : grid(g), options(o), storage(g), tbvs(g.resolution()), expiring(std::size_t(o.tbvMaxFrames) + 2) {
+        : grid(g), options(o), storage(g), tbvs(g.resolution()), expiring(std::size_t(o.tbvMaxFrames) + 2),
+          brickObjects(g.resolution()) {
         if (options.tbvMaxGrowth == 0) options.tbvMaxGrowth = D == 2 ? 32.0 : 8.0;
         main.storage = &storage;
     }

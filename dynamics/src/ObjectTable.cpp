@@ -33,12 +33,21 @@ template <int D> auto Culler<D>::Impl::makePlacement(const Shape<D>& world, doub
 /// Puts the object at its stored placement into I and O (sign > 0), or takes it out (sign < 0).
 template <int D> void Culler<D>::Impl::rasterize(ObjectSlot slot, int sign) {
     RowFootprint& f = footprints[slot];
+    Record& r = records[slot];
     if (sign > 0) {
-        buildFootprint(records[slot].at, f);
+        buildFootprint(r.at, f);
         writes += f.write(storage, slot, +1);
+        if constexpr (D == 3) {
+            r.listedIn = brickObjects.boxOf(r.at.localBounds, grid.conversionSlack(r.at.worldMagnitude));
+            brickObjects.add(slot, r.listedIn);
+        }
     } else {
         writes += f.write(storage, slot, -1);
         f.release();
+        if constexpr (D == 3) {
+            brickObjects.remove(slot, r.listedIn);
+            r.listedIn = {};
+        }
     }
 }
 
@@ -55,6 +64,15 @@ template <int D> void Culler<D>::Impl::moveRasterized(ObjectSlot slot, const Pla
     if (&p == &records[slot].at) return; // the stored placement: already rasterized
     buildFootprint(p, nextFootprint);
     writes += footprints[slot].moveTo(storage, slot, nextFootprint);
+    if constexpr (D == 3) { // the brick lists change only when its box of bricks does (rarely, for a mover)
+        Record& r = records[slot];
+        const BrickBox<D> box = brickObjects.boxOf(p.localBounds, grid.conversionSlack(p.worldMagnitude));
+        if (!(box == r.listedIn)) {
+            brickObjects.remove(slot, r.listedIn);
+            brickObjects.add(slot, box);
+            r.listedIn = box;
+        }
+    }
     records[slot].at = p;
     syncOutside(slot);
 }

@@ -42,6 +42,8 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstddef>
+#include <type_traits>
 #include <vector>
 
 namespace rgvc {
@@ -73,10 +75,15 @@ public:
     /// @param insideObject bool(VoxelKey seed, IVec3 lo, IVec3 hi): whether the voxel box lo..hi (inclusive)
     ///                   grown from opaque voxel `seed` lies inside one object the caller will draw itself
     ///                   (a box object holding the seed): that fused box then adds nothing and is not drawn.
-    template <class MayHoldTbv, class OnVoxel, class OnTbvs, class InsideObject>
+    /// @param onBrickIds bool(IVec3 brick), or null: when given, the caller keeps its own list of the objects
+    ///                   in each brick (a superset of those with ids in it) and meets them there, once per
+    ///                   visited brick after its fused boxes, returning whether the list holds any; the
+    ///                   voxels' ids are then not read and onVoxel is not called.
+    template <class MayHoldTbv, class OnVoxel, class OnTbvs, class InsideObject, class OnBrickIds = std::nullptr_t>
     BrickTraversalStats3D run(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum,
                               OcclusionBuffer3D* image, std::uint32_t stamp, MayHoldTbv&& mayHoldTbv,
-                              OnVoxel&& onVoxel, OnTbvs&& onTbvs, InsideObject&& insideObject) {
+                              OnVoxel&& onVoxel, OnTbvs&& onTbvs, InsideObject&& insideObject,
+                              OnBrickIds&& onBrickIds = nullptr) {
         BrickTraversalStats3D st;
         const IVec3 res = grid.resolution();
         const double grow = frustum.slack();
@@ -101,7 +108,8 @@ public:
                 return false;
             },
             [&](const IVec3& brick, const IVec3& lo, const IVec3& hi) {
-                visitBrick(grid, storage, frustum, image, brick, lo, hi, stamp, mayHoldTbv(brick), onVoxel, onTbvs, insideObject, st);
+                visitBrick(grid, storage, frustum, image, brick, lo, hi, stamp, mayHoldTbv(brick), onVoxel, onTbvs, insideObject,
+                           onBrickIds, st);
             });
         st.nodesVisited = ws.nodesVisited;
         st.nodesEmpty = ws.nodesEmpty;
@@ -109,10 +117,12 @@ public:
     }
 
 private:
-    template <class OnVoxel, class OnTbvs, class InsideObject>
+    template <class OnVoxel, class OnTbvs, class InsideObject, class OnBrickIds>
     void visitBrick(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D* image,
                     const IVec3& brick, const IVec3& lo, const IVec3& hi, std::uint32_t stamp, bool tbvHere,
-                    OnVoxel& onVoxel, OnTbvs& onTbvs, InsideObject& insideObject, BrickTraversalStats3D& st) {
+                    OnVoxel& onVoxel, OnTbvs& onTbvs, InsideObject& insideObject, OnBrickIds& onBrickIds,
+                    BrickTraversalStats3D& st) {
+        constexpr bool kLists = !std::is_same_v<std::decay_t<OnBrickIds>, std::nullptr_t>;
         ++st.bricksVisited;
         // The far limit needs a test per voxel only in the bricks it cuts: a brick whose farthest corner is
         // within it keeps every voxel (withinFar tests a voxel's nearest point, which is no farther).
@@ -154,7 +164,7 @@ private:
                 std::uint32_t ids = 0, opaque = 0; // bit x - lo.x
                 for (std::int32_t x = lo.x; x < hi.x; ++x) {
                     const VoxelKey k(r.key + std::uint32_t(x));
-                    ids |= std::uint32_t(storage.hasIds(k)) << (x - lo.x);
+                    if constexpr (!kLists) ids |= std::uint32_t(storage.hasIds(k)) << (x - lo.x);
                     opaque |= std::uint32_t(storage.opaque(k)) << (x - lo.x);
                 }
                 anyIds = anyIds || ids != 0;
@@ -167,6 +177,8 @@ private:
                     if (((opaque >> (x - lo.x)) & 1) != 0 && !storage.used(VoxelKey(r.key + std::uint32_t(x)), stamp))
                         drawFusedBox(grid, storage, frustum, *image, IVec3{x, y, z}, stamp, insideObject, st);
             }
+        // The caller's list of the brick's objects, after the fused boxes as the ids would be.
+        if constexpr (kLists) anyIds = onBrickIds(brick);
         // Pass 2: visit the spans; then the brick's TBVs, all at once when the caller can.
         std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0}; // the visited voxels, as slice words
         for (int i = 0; i < rows; ++i) {
