@@ -141,7 +141,12 @@ void OcclusionBuffer2D::boxExtent(const Vec2& lo, const Vec2& hi, double& x0, do
 bool OcclusionBuffer2D::canHide(const Vec2& p) const {
     const double x = binCoord(p);
     if (!m_full && (!(x >= 0) || !(x <= m_span))) return true; // not in the buffer's range: no verdict
-    const int b = std::clamp(int(std::floor(x / m_binW)), 0, m_bins - 1);
+    // Clamped in double (a NaN to bin 0), then truncated: floor for q >= 0, without std::floor's library
+    // call on the baseline ISA.
+    double q = x / m_binW;
+    q = q >= 0 ? q : 0.0;
+    q = q < double(m_bins - 1) ? q : double(m_bins - 1);
+    const int b = int(q);
     return m_depth[std::size_t(b)] < std::sqrt(lengthSquared<2>(p)) * (1 - kRelMargin);
 }
 

@@ -58,9 +58,11 @@ public:
             // e = 1e-6 voxel on both ends covers the rounding of the bounds and of the rasterizer (the
             // test against forEachTouchedVoxel puts shapes on voxel and brick faces). Clamped in double
             // first (huge or infinite bounds), empty when the bounds miss the grid.
-            const double lo = std::floor(b.min[a] - slack - 1e-6), hi = std::floor(b.max[a] + slack + 1e-6);
-            if (!(hi >= 0) || !(lo <= double(m_res[a] - 1))) return {};
-            const auto v0 = std::int32_t(std::max(0.0, lo)), v1 = std::int32_t(std::min(double(m_res[a] - 1), hi));
+            // (Truncation after the clamps is that floor: both are then >= 0. std::floor is a library call
+            // on the baseline ISA, and this runs for every move.)
+            const double lo = b.min[a] - slack - 1e-6, hi = b.max[a] + slack + 1e-6;
+            if (!(hi >= 0) || !(lo < double(m_res[a]))) return {};
+            const auto v0 = lo > 0 ? std::int32_t(lo) : 0, v1 = hi < double(m_res[a] - 1) ? std::int32_t(hi) : m_res[a] - 1;
             r.lo[a] = v0 >> BrickPyramid<D>::kBrickShift;
             r.hi[a] = v1 >> BrickPyramid<D>::kBrickShift;
         }
