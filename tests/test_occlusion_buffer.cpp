@@ -146,6 +146,79 @@ TEST_CASE("buffer: a box is tested pixel by pixel against the nearest point each
     }
 }
 
+TEST_CASE("buffer: far boxes seen almost along an edge, drawn and tested against exact rays", "[buffer]") {
+    // Boxes 1e2..1e9 away, thin across the view (1e-9..1e-2 of their distance) and of any depth, their
+    // long edge's line within 1e-12..1e-3 of the camera (relative): two of their silhouette's vertices project within rounding of
+    // each other (fuzz_culler3d found one whose footprint tripped a Debug check that asked every corner
+    // to be on the inner side of such an edge's line; corpus: regression-far-box-degenerate-silhouette).
+    // Each box is drawn (its seam footprint goes through the silhouette table), then a tiny ball farther
+    // along a ray through a perturbed point of the box: when that ray misses the box, the ball is seen
+    // and must not be hidden. Some balls straight behind large images must be hidden.
+    const std::uint64_t seed = 20261203;
+    std::mt19937_64 rng(seed);
+    int missing = 0, hiddenBehind = 0, behind = 0, seen = 0;
+    for (int n = 0; n < 3000; ++n) {
+        // A signed 10^[lo, hi].
+        auto tiny = [&](double lo, double hi) { return (rng() & 1 ? 1 : -1) * std::pow(10.0, sd::uniform(rng, lo, hi)); };
+        // The camera tilted off the box's axis (image coordinates of 1e-4..1e-1, whose rounding then
+        // dwarfs the image of the box's long edge) and rolled (any up).
+        Camera3 cam = lookingAlongZ({50, 30, 0}, sd::uniform(rng, 20, 120), sd::uniform(rng, 0.5, 2.5));
+        cam.direction = glm::normalize(Vec3{tiny(-4, -1), tiny(-4, -1), 1.0});
+        cam.up = sd::unitVector(rng);
+        const ViewFrustum view(cam, kUnitGrid);
+        OcclusionBuffer3D buffer;
+        REQUIRE(buffer.begin(view, std::array<int, 3>{16, 64, 200}[std::size_t(n % 3)]));
+        const double dist = std::pow(10.0, sd::uniform(rng, 2, 9));
+        const double across = dist * std::pow(10.0, sd::uniform(rng, -9, -2));
+        const double along = dist * std::pow(10.0, sd::uniform(rng, -12, 0));
+        // The box's z axis passes within 1e-12..1e-3 of its distance from the camera: its z edges' images
+        // are about along * offset / dist long (down to rounding).
+        const Vec3 c = cam.position + Vec3{tiny(-12, -3), tiny(-12, -3), 1.0} * dist;
+        const Vec3 half{across * sd::uniform(rng, 0.1, 1), across * sd::uniform(rng, 0.1, 1), along};
+        const Box<3> a{c - half, c + half};
+        buffer.draw(a, 0);
+        // A point of the box (a corner, or its centre), pushed out or in by a relative 1e-9..1e-1 across.
+        Vec3 p = c;
+        if (n % 4 != 0)
+            for (int k = 0; k < 3; ++k) p[k] += (rng() & 1 ? 1 : -1) * half[k] * (1 + (rng() & 1 ? 1 : -1) * std::pow(10.0, sd::uniform(rng, -9, -1)));
+        const Vec3 d = glm::normalize(p - cam.position);
+        const double far = glm::length(p - cam.position) * sd::uniform(rng, 1.5, 4);
+        const Ball<3> o{cam.position + d * far, far * 1e-12};
+        if (!ref::pointInView3D(cam, o.center)) continue;
+        // The ray from the camera to the ball's centre against the box grown by a relative 1e-9 (so that
+        // the test's own rounding never calls a grazing ray a miss): a miss means the centre is seen.
+        double t0 = 0, t1 = far;
+        for (int k = 0; k < 3; ++k) {
+            const double g = 1e-9 * (std::abs(c[k]) + half[k]);
+            const double lo = a.min[k] - g - cam.position[k], hi = a.max[k] + g - cam.position[k];
+            if (d[k] == 0) {
+                if (!(lo <= 0 && hi >= 0)) t1 = -1;
+                continue;
+            }
+            const double u = lo / d[k], v = hi / d[k];
+            t0 = std::max(t0, std::min(u, v));
+            t1 = std::min(t1, std::max(u, v));
+        }
+        const bool rayMisses = !(t0 <= t1);
+        const bool hidden = buffer.hidden(o, 0);
+        seen += rayMisses;
+        if (rayMisses && hidden) {
+            ++missing;
+            UNSCOPED_INFO("seed " << seed << " case " << n << " dist " << dist << " across " << across << " along " << along);
+            CHECK_FALSE(hidden);
+        }
+        if (n % 4 == 0) {
+            ++behind;
+            hiddenBehind += hidden;
+        }
+    }
+    std::printf("[buffer] far boxes along an edge: %d balls behind centres, %d hidden; %d balls seen past the box, "
+                "%d of them hidden (must be 0)\n",
+                behind, hiddenBehind, seen, missing);
+    CHECK(seen > 1000);
+    CHECK(hiddenBehind > 0);
+}
+
 TEST_CASE("buffer: a clipped draw writes only the pixels of its clip", "[buffer]") {
     // OcclusionBuffer3D::draw with a clip (refineWithBuffer draws the walk's occluders again over the
     // pixels of the one occludee that needs them): the same depths inside the clip, none outside.

@@ -171,14 +171,26 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
                     f.y[k] = py[v];
                 }
 #ifndef NDEBUG
-                // Every corner's image inside the polygon, up to rounding (the padding covers that).
-                for (int k = 0; k < 8; ++k)
+                // Every corner's image within the padding of the polygon (rowSpan grows each row's span
+                // by padX and its band by padY, which is what covers the projection's rounding). Not
+                // "on the inner side of every edge's line": two vertices of the polygon can be images
+                // within rounding of each other (a box seen almost along an edge, or far away), and the
+                // line through them then has any direction; the polygon as a set is still right.
+                for (int k = 0; k < 8; ++k) {
+                    bool inside = true;
+                    double d2 = kInf; // squared distance to the polygon's boundary
                     for (int e = 0; e < m; ++e) {
                         const int g = e + 1 == m ? 0 : e + 1;
                         const double ex = f.x[g] - f.x[e], ey = f.y[g] - f.y[e];
-                        const double side = ex * (py[k] - f.y[e]) - ey * (px[k] - f.x[e]);
-                        assert(side >= -1e-9 * (std::abs(ex) + std::abs(ey)) * (1 + std::abs(px[k]) + std::abs(py[k])));
+                        const double wx = px[k] - f.x[e], wy = py[k] - f.y[e];
+                        inside = inside && ex * wy - ey * wx >= 0;
+                        const double len2 = ex * ex + ey * ey;
+                        const double t = len2 > 0 ? std::clamp((wx * ex + wy * ey) / len2, 0.0, 1.0) : 0.0;
+                        d2 = std::min(d2, (wx - t * ex) * (wx - t * ex) + (wy - t * ey) * (wy - t * ey));
                     }
+                    const double tol = 0.01 * std::min(f.padX, f.padY);
+                    assert(inside || d2 <= tol * tol);
+                }
 #endif
                 return true;
             }
