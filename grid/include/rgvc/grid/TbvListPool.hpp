@@ -44,12 +44,14 @@ public:
         ++m_used;
     }
 
-    /// Removes every node of slot. Returns how many.
-    std::size_t eraseAll(ObjectSlot slot) {
+    /// Removes every node of slot, calling onHead(head) with the head word of each node's list first
+    /// (the owner learns which lists changed). Returns how many.
+    template <class OnHead> std::size_t eraseAll(ObjectSlot slot, OnHead&& onHead) {
         if (slot >= m_slotFirst.size()) return 0;
         std::size_t count = 0;
         for (std::uint32_t n = m_slotFirst[slot]; n != kNone;) {
             Node& node = m_nodes[n];
+            onHead(static_cast<const std::uint32_t*>(node.head));
             if (node.prev == kNone) *node.head = node.next;
             else m_nodes[node.prev].next = node.next;
             if (node.next != kNone) m_nodes[node.next].prev = node.prev;
@@ -62,6 +64,9 @@ public:
         m_slotFirst[slot] = kNone;
         m_used -= count;
         return count;
+    }
+    std::size_t eraseAll(ObjectSlot slot) {
+        return eraseAll(slot, [](const std::uint32_t*) {});
     }
 
     /// Nodes in use.
