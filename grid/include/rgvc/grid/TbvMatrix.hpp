@@ -581,7 +581,11 @@ private:
 
     void orPart(std::size_t brick, const BrickPart& p) {
         std::uint64_t* w = &m_bits[brick * kSlices];
-        for (std::int32_t z = p.z0; z <= p.z1; ++z) w[z] |= p.slice(z);
+        // The ring on every slice, then the face on the face slices (ring is part of face): the same words
+        // as slice(z) per slice, without its selects in the loop.
+        for (std::int32_t z = p.z0; z <= p.z1; ++z) w[z] |= p.ring;
+        if (p.zFace0 >= 0) w[p.zFace0] |= p.face;
+        if (p.zFace1 >= 0) w[p.zFace1] |= p.face;
     }
 
     /// The brick's bitmap, recomputed from its list: exactly the union of its live TBVs' parts.
