@@ -15,9 +15,11 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -511,6 +513,33 @@ TEST_CASE("tbv: 3D bricks match a model through random inserts, erases and looku
                 for (std::int32_t z = 0; z < res.z && ok; ++z)
                     for (std::int32_t y = 0; y < res.y && ok; ++y)
                         for (std::int32_t x = 0; x < res.x && ok; ++x) ok = check({x, y, z});
+                // brickParts: per brick, each listed slot's voxels there, exactly the model's; every slot
+                // holding a voxel of the brick listed once.
+                std::vector<ObjectSlot> slots;
+                std::vector<std::array<std::uint64_t, 8>> parts;
+                for (std::int32_t bz = 0; bz * 8 < res.z && ok; ++bz)
+                    for (std::int32_t by = 0; by * 8 < res.y && ok; ++by)
+                        for (std::int32_t bx = 0; bx * 8 < res.x && ok; ++bx) {
+                            t.brickParts({bx, by, bz}, slots, parts);
+                            REQUIRE(slots.size() == parts.size());
+                            std::set<ObjectSlot> seen(slots.begin(), slots.end());
+                            CHECK(seen.size() == slots.size());
+                            for (std::int32_t z = 0; z < 8; ++z)
+                                for (std::int32_t y = 0; y < 8; ++y)
+                                    for (std::int32_t x = 0; x < 8; ++x) {
+                                        const IVec3 v{bx * 8 + x, by * 8 + y, bz * 8 + z};
+                                        const std::uint64_t bit = std::uint64_t(1) << (x + 8 * y);
+                                        const bool inGrid = v.x < res.x && v.y < res.y && v.z < res.z;
+                                        const std::vector<ObjectSlot> expected = inGrid ? model.holding(v) : std::vector<ObjectSlot>{};
+                                        for (ObjectSlot e : expected) ok = ok && seen.count(e) == 1;
+                                        for (std::size_t i = 0; i < slots.size(); ++i) {
+                                            const bool want = std::find(expected.begin(), expected.end(), slots[i]) != expected.end();
+                                            ok = ok && (((parts[i][std::size_t(z)] & bit) != 0) == want);
+                                        }
+                                    }
+                            if (!ok) INFO("brick (" << bx << ", " << by << ", " << bz << ")");
+                            CHECK(ok);
+                        }
             } else {
                 for (int q = 0; q < 200 && ok; ++q)
                     ok = check({sr::uniformInt(rng, 0, res.x - 1), sr::uniformInt(rng, 0, res.y - 1), sr::uniformInt(rng, 0, res.z - 1)});

@@ -76,13 +76,17 @@ template <int D> void Culler<D>::Impl::classify(ObjectSlot slot) { classify(main
 /// then of each held octant of 4^3, of 2^3, and last each voxel. A box hidden as a whole hides every
 /// voxel in it; a failed test sends its voxels to the next level. The coarse levels skip hidden()'s
 /// own refinement into parts (the next level is that refinement, along the voxels); single voxels keep
-/// it. Sound whatever the outcome: a voxel left in `held` is only revealed, never lost. Returns whether
-/// any voxel is left.
+/// it. A voxel whose own test fails goes to onVisible(brick-local voxel, held), which may clear voxels
+/// from `held` (those whose TBVs it has already taken for revealing: they would reveal nothing more);
+/// later tests read `held` afresh. Sound whatever the outcome: only a hidden test clears a voxel by
+/// itself. Returns whether any voxel is left.
 /// Why: behind a closed wall the held voxels of a brick are hidden together (the room's movers: half of
 /// the bricks' sets by the first test), and where a wall crosses a brick the octants on its far side
 /// are, so the tests follow the wall's area in the brick, not its volume. Each test costs a footprint
 /// (about a thousand instructions).
-static bool clearHiddenVoxels(OcclusionBuffer3D& image, const IVec3& brick, double slack, std::uint64_t held[8]) {
+template <class OnVisible>
+static bool clearHiddenVoxels(OcclusionBuffer3D& image, const IVec3& brick, double slack, std::uint64_t held[8],
+                              OnVisible&& onVisible) {
     const IVec3 o = brick * 8;
     // held restricted to the cube c .. c + size - 1 (brick-local), as slice words.
     auto cubeMask = [](const IVec3& c, int size, int z) -> std::uint64_t {
@@ -110,7 +114,10 @@ static bool clearHiddenVoxels(OcclusionBuffer3D& image, const IVec3& brick, doub
             for (int z = c.z; z < c.z + size; ++z) held[z] &= ~m[z];
             return;
         }
-        if (one || size == 1) return;
+        if (one || size == 1) {
+            onVisible(lo, held);
+            return;
+        }
         const int h = size / 2;
         for (int k = 0; k < 8; ++k) self(self, c + IVec3{(k & 1) * h, ((k >> 1) & 1) * h, ((k >> 2) & 1) * h}, h);
     };
@@ -160,10 +167,47 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
             bool any = false;
             for (int z = 0; z < 8; ++z) any = (held[z] = lists ? held[z] & visited[z] : visited[z]) != 0 || any;
             if (!any) return;
-            if (vs.imageActive && !clearHiddenVoxels(image, brick, view.slack(), held)) return;
             if (lists) {
-                tbvs.collectInBrick(brick, held, revealScratch);
-            } else { // a Shell TBV exists: its voxel lists answer voxel by voxel
+                // A voxel found visible takes its TBVs for revealing at once, and the voxels only they
+                // hold leave the tests (where movers crowd, most of a brick's held voxels are visible,
+                // and each cost a footprint test: clusters and the game world of rgvc_bench_classes).
+                // Its slots and parts are read once, at the brick's first visible voxel.
+                bool partsRead = false;
+                auto onVisible = [&](const IVec3& local, std::uint64_t h[8]) {
+                    auto& slots = vs.brickTbvSlots;
+                    auto& parts = vs.brickTbvParts;
+                    auto& taken = vs.brickTbvTaken;
+                    if (!partsRead) {
+                        tbvs.brickParts(brick, slots, parts);
+                        taken.assign(slots.size(), 0);
+                        partsRead = true;
+                    }
+                    const std::uint64_t bit = std::uint64_t(1) << (local.x + 8 * local.y);
+                    std::uint64_t rest[8] = {0, 0, 0, 0, 0, 0, 0, 0}; // what the slots not taken hold
+                    for (std::size_t i = 0; i < slots.size(); ++i) {
+                        if (taken[i] == 0 && (parts[i][std::size_t(local.z)] & bit) != 0) {
+                            taken[i] = 1;
+                            revealScratch.push_back(slots[i]);
+                        }
+                        if (taken[i] != 0) continue;
+                        for (std::size_t z = 0; z < 8; ++z) rest[z] |= parts[i][z];
+                    }
+                    for (std::size_t z = 0; z < 8; ++z) h[z] &= rest[z];
+                };
+                if (vs.imageActive && !clearHiddenVoxels(image, brick, view.slack(), held, onVisible) && revealScratch.empty())
+                    return;
+                // Without the image every visited voxel that holds a TBV reveals it; with it, what the
+                // callback left (nothing, unless a voxel's slots were all taken already).
+                bool left = false;
+                for (int z = 0; z < 8; ++z) left = left || held[z] != 0;
+                if (left) {
+                    tbvs.collectInBrick(brick, held, revealScratch);
+                    std::sort(revealScratch.begin(), revealScratch.end());
+                    revealScratch.erase(std::unique(revealScratch.begin(), revealScratch.end()), revealScratch.end());
+                }
+            } else {
+                // A Shell TBV exists: its voxel lists answer voxel by voxel.
+                if (vs.imageActive && !clearHiddenVoxels(image, brick, view.slack(), held, [](const IVec3&, std::uint64_t*) {})) return;
                 for (int z = 0; z < 8; ++z)
                     for (std::uint64_t bits = held[z]; bits != 0; bits &= bits - 1) {
                         const int b = std::countr_zero(bits);

@@ -33,6 +33,7 @@
 #include "SlotSet.hpp"
 #include "ViewStorage.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <exception>
@@ -173,6 +174,11 @@ template <int D> struct Culler<D>::Impl {
         // its image (3D).
         std::vector<std::uint32_t> pvsStamp, classifiedStamp, drawnStamp;
         std::vector<ObjectSlot> revealScratch;
+        // The brick walk's TBVs of the brick at hand and the voxels each holds there (TbvMatrix::brickParts),
+        // and which of them a visible voxel has taken for revealing (traverseBricks).
+        std::vector<ObjectSlot> brickTbvSlots;
+        std::vector<std::array<std::uint64_t, 8>> brickTbvParts;
+        std::vector<std::uint8_t> brickTbvTaken;
         std::vector<ObjectSlot> met; // kShared: hidden objects whose TBV this view met, in the order met
         const typename Traits::View* view = nullptr; // while the pass runs
         std::exception_ptr failure;  // kShared: what the pass threw (bad_alloc), rethrown after all views

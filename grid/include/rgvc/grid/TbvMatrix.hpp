@@ -45,6 +45,7 @@
 #include "rgvc/grid/VoxelStorage.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -424,6 +425,26 @@ public:
                 }
         });
     }
+    /// The slots listed in brick b and, per slot, the voxels of the brick it holds (8 slice words, as
+    /// brickBits gives), appended to `slots` and `parts` (cleared first); slots whose discretization
+    /// misses the brick are left out. Boundary and Filled only (hasBrickLists()). Cost: the brick's list,
+    /// one part per entry. (The brick traversal reveals the TBVs of a visible voxel at once with these:
+    /// clearHiddenVoxels in BrickPass.cpp.)
+    void brickParts(const IVec3& b, std::vector<ObjectSlot>& slots, std::vector<std::array<std::uint64_t, 8>>& parts) const {
+        static_assert(kSlices == 8);
+        slots.clear();
+        parts.clear();
+        if (m_heads.empty()) return;
+        BrickPart p;
+        m_lists.forEach(m_heads[brickIndex(b)], [&](ObjectSlot s) {
+            if (!brickPart(m_boxes[s], b, p)) return;
+            slots.push_back(s);
+            std::array<std::uint64_t, 8>& w = parts.emplace_back();
+            w.fill(0);
+            for (std::int32_t z = p.z0; z <= p.z1; ++z) w[std::size_t(z)] = p.slice(z);
+        });
+    }
+
     /// Whether TBVs are kept per brick (Boundary, Filled); false while a Shell TBV exists (its voxel lists
     /// answer only collectAt).
     bool hasBrickLists() const { return m_voxels.empty(); }
