@@ -528,6 +528,72 @@ TEST_CASE("dynamic: 3D moving-spheres benchmark scene (small) with a walking cam
     fails.check();
 }
 
+TEST_CASE("dynamic: 3D with adaptiveImage: zero misses, the walk's image skipped where it does not pay and kept in a closed room",
+          "[dynamics][tbv]") {
+    CullerOptions adaptive = withTbv(TbvDiscretization::Boundary);
+    adaptive.adaptiveImage = true;
+    runMany<3>("3D adaptive image", 6500, 24, 60, adaptive, 0.05, true);
+    // The small moving-spheres scene: the image hides little there, so most frames walk without it.
+    {
+        const ref::MovingSpheres3D b = ref::movingSpheres3D(78, 250, {48, 32, 48}, 6, 0.3, 2.5, 0.5);
+        World<3> w;
+        w.seed = 78;
+        w.grid = b.grid;
+        for (std::size_t i = 0; i < b.objects.size(); ++i) w.add(b.objects[i].shape, false, b.objects[i].maxSpeed, 0.98 * b.velocity[i]);
+        w.camLocal = {5.5, 16.2, 24.3};
+        w.camera = Camera3{.position = w.camLocal, .direction = {1, -0.1, 0.2}, .fovDeg = 70, .aspect = 1.6};
+        Tally tally;
+        Failures fails;
+        Session<3> s(w, adaptive, tally, fails);
+        int skipped = 0;
+        for (int f = 0; f < 60; ++f) skipped += s.step().stats.imageSkipped;
+        tally.print("3D moving spheres, adaptive image");
+        std::cout << "[dynamic]   walk without the image in " << skipped << " of 60 frames\n";
+        CHECK(tally.misses == 0);
+        CHECK(skipped >= 30);
+        fails.check();
+    }
+    // A closed room (six static walls) with 300 movers outside: the image hides what the walk would
+    // read, so it is never skipped, and nothing outside is reported.
+    {
+        World<3> w;
+        w.seed = 79;
+        w.grid = GridGeometry3(Vec3(0.0), 1.0, IVec3{64, 32, 64});
+        w.turnChance = 0.2;
+        const Vec3 lo{20, 8, 20}, hi{40, 24, 40};
+        for (int a = 0; a < 3; ++a) {
+            Vec3 l0 = lo, h0 = hi, l1 = lo, h1 = hi;
+            h0[a] = lo[a] + 1;
+            l1[a] = hi[a] - 1;
+            w.add(Box<3>{l0, h0}, true, 0, Vec3(0.0));
+            w.add(Box<3>{l1, h1}, true, 0, Vec3(0.0));
+        }
+        std::mt19937_64 rng(79);
+        const std::size_t firstMover = w.objects.size();
+        while (w.objects.size() < firstMover + 300) {
+            const Vec3 c{sr::uniform(rng, 2, 62), sr::uniform(rng, 2, 30), sr::uniform(rng, 2, 62)};
+            if (glm::all(glm::greaterThan(c, lo - 3.0)) && glm::all(glm::lessThan(c, hi + 3.0))) continue;
+            w.add(Ball<3>{c, 0.6}, false, 0.05, 0.04 * randomUnit<3>(rng));
+        }
+        w.camLocal = {30.2, 16.3, 30.4};
+        w.camera = Camera3{.position = w.camLocal, .direction = {1, 0.1, 0.3}, .fovDeg = 90};
+        Tally tally;
+        Failures fails;
+        Session<3> s(w, adaptive, tally, fails);
+        int skipped = 0, outsideReported = 0;
+        for (int f = 0; f < 40; ++f) {
+            const CullResult& r = s.step(false);
+            skipped += r.stats.imageSkipped;
+            for (std::size_t i = firstMover; i < w.objects.size(); ++i) outsideReported += contains(r.pvs, w.objects[i].id);
+        }
+        tally.print("3D closed room, adaptive image");
+        CHECK(tally.misses == 0);
+        CHECK(skipped == 0);
+        CHECK(outsideReported == 0);
+        fails.check();
+    }
+}
+
 namespace {
 // A static wall, a slow and a fast ball moving behind it and out (index 1, 2), a static ball always hidden
 // (index 3); fixed camera. While an object is "deeply hidden" (a box around it, grown by twice the TBV

@@ -145,7 +145,13 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
     }
     OcclusionBuffer3D& image = vs.traversalImage;
     std::vector<ObjectSlot>& revealScratch = vs.revealScratch;
-    vs.imageActive = options.occlusion && image.begin(view, rows);
+    // CullerOptions::adaptiveImage (cull() only): a frame in the schedule's skip walks without the image.
+    constexpr bool shared = ViewScratch<S>::kShared;
+    const bool adaptive = !shared && options.adaptiveImage && options.occlusion;
+    const bool skipImage = adaptive && imageSkip > 0;
+    if (skipImage) --imageSkip;
+    st.imageSkipped = skipImage;
+    vs.imageActive = !skipImage && options.occlusion && image.begin(view, rows);
     st.tbvLookupsSkipped = tbvs.liveRegions() == 0;
     const BrickTraversalStats3D ts = vs.brickTraversal.run(
         grid, *vs.storage, view, vs.imageActive ? &image : nullptr, vs.stamp,
@@ -239,7 +245,17 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
             for (std::size_t i = 0; i < list.size(); ++i)
                 if (vs.classifiedStamp[list[i]] != vs.stamp) classify(vs, list[i], view);
             return !list.empty();
-        });
+        },
+        adaptive && vs.imageActive);
+    if (adaptive && vs.imageActive) {
+        // Paid: the hidden nodes held at least as many occupied bricks in view as the walk read.
+        if (ts.bricksSkipped >= ts.bricksVisited) {
+            imageBackoff = 1;
+        } else {
+            imageSkip = imageBackoff;
+            imageBackoff = std::min<std::uint32_t>(2 * imageBackoff, 8);
+        }
+    }
     finishWalk(vs, view, st, ts.voxelsVisited, ts.nodesVisited, ts.nodesEmpty, ts.nodesHidden, ts.bricksVisited, ts.fusedBoxes);
 }
 

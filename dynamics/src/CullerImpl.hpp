@@ -126,6 +126,8 @@ template <int D> struct Culler<D>::Impl {
     std::uint32_t capsSkip = 0, capsBackoff = 1;
     // CullerOptions::adaptiveBuffer: frames still to skip the occlusion buffer's pass, and the next skip.
     std::uint32_t bufferSkip = 0, bufferBackoff = 1;
+    // CullerOptions::adaptiveImage (3D hierarchical): frames still to walk without the image, and the next skip's length.
+    std::uint32_t imageSkip = 0, imageBackoff = 1;
     struct BufferShape {
         // Voxel units. Balls and boxes are copied (the sort's pass then reads no record); a shape that
         // owns memory (a polytope) is not, to allocate nothing per object and frame: `large` points at it

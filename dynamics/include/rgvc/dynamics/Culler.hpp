@@ -188,6 +188,7 @@ struct CullStats {
     std::uint32_t bufferHidden = 0;       ///< of those, hidden by it and left out of the PVS
     double bufferMs = 0;                  ///< of cullMs: the occlusion buffer's time
     bool bufferSkipped = false;           ///< CullerOptions::adaptiveBuffer skipped the buffer's pass this frame
+    bool imageSkipped = false;            ///< CullerOptions::adaptiveImage walked without the occlusion image this frame
     // 3D hierarchical traversal (CullerOptions::hierarchical): the brick tree's work.
     std::uint64_t nodesVisited = 0;       ///< brick-tree nodes (interior and bricks) taken out of the queue
     std::uint64_t nodesEmpty = 0;         ///< of those, skipped as empty (no ids, no TBV below them)
@@ -326,6 +327,20 @@ struct CullerOptions {
     /// default: in closed rooms the pass is what hides the last objects outside (the traversal's image
     /// alone lets one through now and then at a room's corner), and a skipped frame reports them.
     bool adaptiveBuffer = false;
+    /// 3D hierarchical only: walk without the occlusion image on frames after it has not been paying.
+    /// The image pays where it hides what the walk would read: after a frame whose hidden nodes held
+    /// fewer occupied bricks in view than the walk read, the next 1, then 2, 4 and at most 8 frames walk
+    /// as view-frustum culling does (every TBV met in view revealed; stats.imageSkipped), and the
+    /// occlusion buffer's pass draws every kept object into a fresh image; a frame whose image pays resets
+    /// the schedule. What is skipped is the walk's occlusion, never conservativeness, and the buffer's
+    /// pass still hides what the image would have (the same |PVS| on every class of rgvc_bench_classes).
+    /// Behind closed walls and in street-level cities the image hides several times what the walk reads
+    /// and stays on; in the game world, clusters, large worlds and the paper's spheres it costs more than
+    /// it saves (README, "Scene classes"). cull() only (cullViews' views keep the image every frame).
+    /// Off by default: a frame without the image keeps the objects it would have hidden in O and I
+    /// (tracked, not held by TBVs), and small scenes where the image hides a few objects behind one wall
+    /// (the dynamic-scene and closed-room tests) would walk without it on most frames.
+    bool adaptiveImage = false;
     /// The output-sensitive core (BrickTraversal3D.hpp, BrickTraversal2D.hpp). The grid's 8^D bricks
     /// form an implicit octree (quadtree in 2D) whose nodes know whether anything (an id or a TBV) lies
     /// below them; the tree is walked front to back, empty nodes are skipped in O(1), every node is tested

@@ -57,6 +57,9 @@ struct BrickTraversalStats3D {
     std::uint64_t bricksCleared = 0; ///< of those, found empty and cleared in the pyramid
     std::uint64_t voxelsVisited = 0; ///< voxels of those bricks inside the frustum
     std::uint64_t fusedBoxes = 0;    ///< boxes of opaque voxels drawn as occluders (drawFusedBox)
+    /// Occupied bricks touching the frustum below the hidden nodes: what the image saved the walk from
+    /// reading (counted up to 4 x bricksVisited + 64, which is all CullerOptions::adaptiveImage asks).
+    std::uint64_t bricksSkipped = 0;
 };
 
 template <VoxelStorage Storage> class BrickTraversal3D {
@@ -79,17 +82,18 @@ public:
     ///                   in each brick (a superset of those with ids in it) and meets them there, once per
     ///                   visited brick after its fused boxes, returning whether the list holds any; the
     ///                   voxels' ids are then not read and onVoxel is not called.
+    /// @param countSkippedBricks  fill st.bricksSkipped (CullerOptions::adaptiveImage's measure).
     template <class MayHoldTbv, class OnVoxel, class OnTbvs, class InsideObject, class OnBrickIds = std::nullptr_t>
     BrickTraversalStats3D run(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum,
                               OcclusionBuffer3D* image, std::uint32_t stamp, MayHoldTbv&& mayHoldTbv,
                               OnVoxel&& onVoxel, OnTbvs&& onTbvs, InsideObject&& insideObject,
-                              OnBrickIds&& onBrickIds = nullptr) {
+                              OnBrickIds&& onBrickIds = nullptr, bool countSkippedBricks = false) {
         BrickTraversalStats3D st;
         const IVec3 res = grid.resolution();
         const double grow = frustum.slack();
         const BrickWalkStats ws = walkBricks<3>(
             storage.bricks(), res, frustum.apex(), m_stack,
-            [&](const IVec3& lo, const IVec3& hi) {
+            [&](const IVec3& lo, const IVec3& hi, int level) {
                 const Vec3 loF(lo), hiF(hi);
                 if (!frustum.touchesBox(loF, hiF)) {
                     ++st.nodesOutside;
@@ -103,6 +107,7 @@ public:
                                    hi.z - lo.z <= BrickPyramid<3>::kBrickSize;
                 if (image != nullptr && (brick ? image->hidden(Box<3>{loF, hiF}, grow) : image->hiddenCoarse(Box<3>{loF, hiF}, grow))) {
                     ++st.nodesHidden;
+                    if (countSkippedBricks) countSkipped(storage.bricks(), res, frustum, level, lo, st);
                     return true;
                 }
                 return false;
@@ -117,6 +122,35 @@ public:
     }
 
 private:
+    /// Adds to st.bricksSkipped the occupied bricks touching the frustum in the node of `level` whose first
+    /// voxel is lo, walking its subtree with the same frustum test as the walk, until the count reaches
+    /// 4 x bricksVisited + 64: enough for the adaptive schedule's question, and it keeps the count's cost
+    /// a fraction of the walk's (a closed room hides thousands of bricks outside it).
+    void countSkipped(const BrickPyramid<3>& tree, const IVec3& res, const ViewFrustum& frustum, int level, const IVec3& lo,
+                      BrickTraversalStats3D& st) {
+        const std::uint64_t cap = 4 * st.bricksVisited + 64;
+        if (st.bricksSkipped >= cap) return;
+        m_count.clear();
+        m_count.push_back({level, lo / (BrickPyramid<3>::kBrickSize << level)});
+        while (!m_count.empty() && st.bricksSkipped < cap) {
+            const BrickNode<3> n = m_count.back();
+            m_count.pop_back();
+            if (!tree.occupied(n.level, n.c)) continue;
+            const std::int32_t s = BrickPyramid<3>::kBrickSize << n.level;
+            const IVec3 nlo = n.c * s, nhi = glm::min(nlo + s, res);
+            if (!frustum.touchesBox(Vec3(nlo), Vec3(nhi))) continue;
+            if (n.level == 0) {
+                ++st.bricksSkipped;
+                continue;
+            }
+            const IVec3 dims = tree.dims(n.level - 1);
+            for (int i = 0; i < 8; ++i) {
+                const IVec3 cc{2 * n.c.x + (i & 1), 2 * n.c.y + ((i >> 1) & 1), 2 * n.c.z + ((i >> 2) & 1)};
+                if (cc.x < dims.x && cc.y < dims.y && cc.z < dims.z) m_count.push_back({n.level - 1, cc});
+            }
+        }
+    }
+
     template <class OnVoxel, class OnTbvs, class InsideObject, class OnBrickIds>
     void visitBrick(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D* image,
                     const IVec3& brick, const IVec3& lo, const IVec3& hi, std::uint32_t stamp, bool tbvHere,
@@ -278,6 +312,7 @@ private:
     static constexpr std::int32_t kMaxGrow = 64;
     static constexpr double kMinOccluderPixels = 4; // smaller fused boxes are not drawn (OcclusionBuffer3D::spans)
     std::array<RowInfo, 64> m_rows{}; // a brick's 8 x 8 rows
+    std::vector<BrickNode<3>> m_count; // countSkipped's stack (kept: no allocation once warm)
     std::vector<BrickNode<3>> m_stack;
 };
 

@@ -22,6 +22,7 @@
 #include "rgvc/grid/Math.hpp"
 
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace rgvc {
@@ -38,7 +39,7 @@ template <int D> struct BrickNode {
 };
 
 /// Walks `tree` front to back from `apex` (voxel units). For every occupied node, with its voxel box
-/// lo .. hi (hi exclusive, clipped to `res`): `skip(lo, hi)` true skips it and its subtree; otherwise a
+/// lo .. hi (hi exclusive, clipped to `res`): `skip(lo, hi)` (or `skip(lo, hi, level)`) true skips it and its subtree; otherwise a
 /// brick (level 0) goes to `visit(brickCoords, lo, hi)` and an interior node's children are walked,
 /// nearest first. `stack` is the caller's scratch (kept between frames: no allocation once warm).
 /// Cost: O(nodes taken) + what the callbacks do.
@@ -59,7 +60,10 @@ BrickWalkStats walkBricks(const BrickPyramid<D>& tree, const IVec<D>& res, const
         const std::int32_t side = BrickPyramid<D>::kBrickSize << n.level; // voxels per axis
         const IVec<D> lo = n.c * side;
         const IVec<D> hi = glm::min(lo + side, res);
-        if (skip(lo, hi)) {
+        bool skipped;
+        if constexpr (std::is_invocable_v<Skip&, const IVec<D>&, const IVec<D>&, int>) skipped = skip(lo, hi, n.level);
+        else skipped = skip(lo, hi);
+        if (skipped) {
             ++st.nodesSkipped;
             continue;
         }
