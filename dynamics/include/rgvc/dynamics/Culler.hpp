@@ -72,8 +72,9 @@
 // Each view's PVS is therefore a function of the scene and its camera alone: the same whatever the
 // executor, the number of threads or the scheduling (tests: test_views). It equals cull(camera) for
 // that camera except where a TBV was met (cull() reveals and classifies it in the same frame, so it may
-// cull it; cullViews reports it) and except that CullerOptions::adaptiveCaps and adaptiveBuffer, per-view
-// schedules, are not used by cullViews (caps and the buffer pass run every frame).
+// cull it; cullViews reports it) and except that CullerOptions::adaptiveCaps, adaptiveBuffer and
+// adaptiveImage, per-view schedules, are not used by cullViews (caps, the walk's image and the buffer
+// pass run every frame).
 #pragma once
 
 #include "rgvc/grid/Camera.hpp"
