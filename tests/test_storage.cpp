@@ -1,7 +1,9 @@
-// DenseStorage: the I lists against a multiset model, O counts and stamps. (T lives in TbvMatrix.hpp;
+// DenseStorage: the I lists against a multiset model, O counts and stamps, and the brick-row words (O's
+// flags, V, U) against per-voxel models. (T lives in TbvMatrix.hpp;
 // test_tbv.cpp covers it.)
 #include <catch2/catch.hpp>
 
+#include "rgvc/grid/BrickRows.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
 
 #include <map>
@@ -110,5 +112,76 @@ TEST_CASE("storage: O flags, I lists and stamps share a cell without disturbing 
         CHECK(collect([&](auto fn) { s.forEachId(k, fn); }) == ids[k]);
         CHECK(s.occluded(k, stamp) == (occludedAt.count(k) && occludedAt[k] == stamp));
         CHECK(s.visited(k, stamp) == (visitedAt.count(k) && visitedAt[k] == stamp));
+    }
+}
+
+TEST_CASE("storage: brick-row words of O, V and U agree with the voxels, and the row helpers with a voxel-by-voxel scan",
+          "[storage]") {
+    // Widths a multiple of 8 and not (the last word of a row is partial, or the next word is the next row's).
+    for (const std::int32_t resX : {8, 13, 24, 37}) {
+        const std::uint64_t seed = 79 + std::uint64_t(resX);
+        INFO("seed " << seed << ", res.x " << resX);
+        std::mt19937_64 rng(seed);
+        const GridGeometry3 grid({0, 0, 0}, 1.0, {resX, 5, 3});
+        DenseStorage<3> s(grid);
+        const std::uint32_t rows = 5 * 3;
+        std::vector<int> opaque(grid.voxelCount(), 0);
+        std::vector<std::uint32_t> usedAt(grid.voxelCount(), 0), visitedAt(grid.voxelCount(), 0);
+        std::uint32_t stamp = 1;
+        for (int step = 0; step < 4000; ++step) {
+            const std::uint32_t row = std::uint32_t(rng() % rows);
+            const std::int32_t x0 = std::int32_t(rng() % std::uint64_t(resX));
+            const std::int32_t x1 = x0 + std::int32_t(rng() % std::uint64_t(resX - x0));
+            const VoxelKey k0 = row * std::uint32_t(resX);
+            switch (rng() % 6) {
+            case 0: // a run made opaque (the walls the fusion grows along)
+                for (std::int32_t x = x0; x <= x1; ++x) s.addOpaque(k0 + std::uint32_t(x), +1), ++opaque[k0 + std::uint32_t(x)];
+                break;
+            case 1:
+                for (std::int32_t x = x0; x <= x1; ++x)
+                    if (opaque[k0 + std::uint32_t(x)] > 0) s.addOpaque(k0 + std::uint32_t(x), -1), --opaque[k0 + std::uint32_t(x)];
+                break;
+            case 2:
+                brick_rows::markUsed(s, row, x0, x1, stamp);
+                for (std::int32_t x = x0; x <= x1; ++x) usedAt[k0 + std::uint32_t(x)] = stamp;
+                break;
+            case 3: { // V by words (the walks) and by voxels (the per-voxel traversal)
+                const std::size_t w = s.rowWord(row, x0);
+                const std::uint32_t bits = std::uint32_t(rng() & 0xFF), n = std::uint32_t(std::min(8, resX - (x0 & ~7)));
+                s.setVisitedBits(w, bits & ((1u << n) - 1u), stamp);
+                for (std::uint32_t b = 0; b < n; ++b)
+                    if ((bits >> b) & 1u) visitedAt[k0 + std::uint32_t(x0 & ~7) + b] = stamp;
+                s.setVisited(k0 + std::uint32_t(x1), stamp), visitedAt[k0 + std::uint32_t(x1)] = stamp;
+                break;
+            }
+            case 4: s.setUsed(k0 + std::uint32_t(x1), stamp), usedAt[k0 + std::uint32_t(x1)] = stamp; break;
+            default: stamp = stamp % DenseStorage<3>::kMaxStamp + 1;
+            }
+            // The words and the voxels.
+            for (std::int32_t x = 0; x < resX; ++x) {
+                const VoxelKey k = k0 + std::uint32_t(x);
+                const std::uint32_t bit = 1u << (x & 7);
+                CHECK(((s.opaqueBits(s.rowWord(row, x)) & bit) != 0) == (opaque[k] > 0));
+                CHECK(s.used(k, stamp) == (usedAt[k] == stamp));
+                CHECK(((s.usedBits(s.rowWord(row, x), stamp) & bit) != 0) == (usedAt[k] == stamp));
+                CHECK(s.visited(k, stamp) == (visitedAt[k] == stamp));
+            }
+            // The helpers against a scan.
+            bool all = true;
+            for (std::int32_t x = x0; x <= x1; ++x) all = all && opaque[k0 + std::uint32_t(x)] > 0;
+            CHECK(brick_rows::allOpaque(s, row, x0, x1) == all);
+            if (opaque[k0 + std::uint32_t(x0)] > 0) {
+                for (const std::int32_t grow : {0, 3, 9, 64}) {
+                    std::int32_t lo = x0, hi = x0;
+                    while (hi + 1 < resX && hi - x0 < grow && opaque[k0 + std::uint32_t(hi + 1)] > 0) ++hi;
+                    while (lo > 0 && x0 - lo < grow && opaque[k0 + std::uint32_t(lo - 1)] > 0) --lo;
+                    std::int32_t rlo = -1, rhi = -1;
+                    brick_rows::opaqueRun(s, row, resX, x0, grow, rlo, rhi);
+                    INFO("row " << row << ", x " << x0 << ", grow " << grow);
+                    CHECK(rlo == lo);
+                    CHECK(rhi == hi);
+                }
+            }
+        }
     }
 }

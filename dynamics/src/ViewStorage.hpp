@@ -5,7 +5,7 @@
 // next to I and O (one cache line per step, see VoxelStorage.hpp), so two traversals over the same cells
 // would write each other's stamps. A view pass instead reads O, I and the brick pyramid from the scene
 // (which nobody writes while view passes run) and writes only its own stamp arrays. The price is the
-// arrays' memory, 6 bytes per voxel per view slot, allocated by the first cullViews with that many views
+// arrays' memory, 2 bytes per voxel and 8 per brick row (V's and U's words) per view slot, allocated by the first cullViews with that many views
 // and reused by every later one, and a second cache line per step.
 #pragma once
 
@@ -23,10 +23,13 @@ public:
     /// Marks a storage whose scene part is shared: traversals leave the scene's brick pyramid alone.
     static constexpr bool kSharedScene = true;
 
-    ViewStorage(const DenseStorage<D>& scene, std::size_t voxels) : m_scene(&scene), m_stamps(voxels), m_used(voxels, 0) {}
+    ViewStorage(const DenseStorage<D>& scene, std::size_t voxels)
+        : m_scene(&scene), m_stamps(voxels), m_visited(scene.rowLayout().size()), m_used(scene.rowLayout().size()) {}
 
     const BrickPyramid<D>& bricks() const { return m_scene->bricks(); }
     bool opaque(VoxelKey k) const { return m_scene->opaque(k); }
+    std::size_t rowWord(std::uint32_t rowIndex, std::int32_t x) const { return m_scene->rowWord(rowIndex, x); }
+    std::uint32_t opaqueBits(std::size_t w) const { return m_scene->opaqueBits(w); }
     bool hasIds(VoxelKey k) const { return m_scene->hasIds(k); }
     template <class Fn> void forEachId(VoxelKey k, Fn&& fn) const { m_scene->forEachId(k, fn); }
     void prefetchCell(VoxelKey k) const {
@@ -37,13 +40,33 @@ public:
 
     bool occluded(VoxelKey k, std::uint32_t stamp) const { return m_stamps[k].occluded == stamp; }
     void setOccluded(VoxelKey k, std::uint32_t stamp) { m_stamps[k].occluded = std::uint16_t(stamp); }
-    bool used(VoxelKey k, std::uint32_t stamp) const { return m_used[k] == stamp; }
-    void setUsed(VoxelKey k, std::uint32_t stamp) { m_used[k] = std::uint16_t(stamp); }
-    bool visited(VoxelKey k, std::uint32_t stamp) const { return m_stamps[k].visited == stamp; }
-    void setVisited(VoxelKey k, std::uint32_t stamp) { m_stamps[k].visited = std::uint16_t(stamp); }
+    bool used(VoxelKey k, std::uint32_t stamp) const {
+        std::uint32_t bit;
+        const std::size_t w = m_scene->rowLayout().wordOf(k, bit);
+        return (m_used.get(w, stamp) & bit) != 0;
+    }
+    void setUsed(VoxelKey k, std::uint32_t stamp) {
+        std::uint32_t bit;
+        const std::size_t w = m_scene->rowLayout().wordOf(k, bit);
+        m_used.set(w, bit, stamp);
+    }
+    std::uint32_t usedBits(std::size_t w, std::uint32_t stamp) const { return m_used.get(w, stamp); }
+    void setUsedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_used.set(w, bits, stamp); }
+    bool visited(VoxelKey k, std::uint32_t stamp) const {
+        std::uint32_t bit;
+        const std::size_t w = m_scene->rowLayout().wordOf(k, bit);
+        return (m_visited.get(w, stamp) & bit) != 0;
+    }
+    void setVisited(VoxelKey k, std::uint32_t stamp) {
+        std::uint32_t bit;
+        const std::size_t w = m_scene->rowLayout().wordOf(k, bit);
+        m_visited.set(w, bit, stamp);
+    }
+    void setVisitedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_visited.set(w, bits, stamp); }
     void resetStamps() {
         for (Stamps& s : m_stamps) s = Stamps{};
-        std::fill(m_used.begin(), m_used.end(), std::uint16_t(0));
+        m_visited.reset();
+        m_used.reset();
     }
 
     // The scene's O and I are read-only here; the concept names their writers, which a view pass never
@@ -55,11 +78,11 @@ public:
 private:
     struct Stamps {
         std::uint16_t occluded = 0;
-        std::uint16_t visited = 0;
     };
     const DenseStorage<D>* m_scene;
     std::vector<Stamps> m_stamps;
-    std::vector<std::uint16_t> m_used;
+    StampedRowBits m_visited; // V, as the scene's brick-row words
+    StampedRowBits m_used;    // U, likewise
 };
 
 static_assert(VoxelStorage<ViewStorage<2>>);

@@ -13,14 +13,23 @@
 //                  resetStamps() (one full clear) and starts again at 1.
 //   I  ids         per voxel, its only object slot stored in the cell, or a chain of 3-slot buckets drawn
 //                  from one pool with a free list. After warm-up no insertion allocates.
-//   U  used        a frame stamp marking voxels already part of an extended occluder this frame, so a
-//                  wall of n opaque voxels is extended once, not n times.
+//   U  used        the voxels already part of an extended occluder this frame, so a wall of n opaque
+//                  voxels is extended once, not n times; stamped brick-row words, as V.
 //   T  TBVs        not here: T is read only at visited voxels and written only when TBVs change; it is
 //                  counts and tile lists in 2D and a brick index in 3D, not a voxel matrix (TbvMatrix.hpp).
 //   Os             O is maintained incrementally (objects add and remove their own inner voxels) and never
 //                  rebuilt, so the paper's static occluder matrix is O's static part: a static object is
 //                  counted in once and stays; there is nothing to copy from Os into O each frame.
-//   V  visited     a frame stamp of the voxels the traversal visited (for stats and pictures).
+//   V  visited     the voxels the traversal visited this frame (for stats, pictures and voxelState), as
+//                  one stamped 8-bit word per brick row (RowWords below).
+//
+// Brick rows. The brick walks (BrickTraversal2D/3D.hpp) read and write whole rows of a brick, the 8 voxels
+// x = 8 bx .. 8 bx + 7 of one grid row, as bit words: O's flags (opaqueBits), V (setVisitedBits) and U.
+// Word w = rowIndex * ceil(res.x / 8) + bx, where rowIndex is the row's key / res.x (y in 2D, y + res.y z in
+// 3D), and bit i is voxel x = 8 bx + i. Why words: reading a brick voxel by voxel for O and writing V voxel
+// by voxel was a third of the walk (rgvc_bench_classes' game world: 512 reads and writes per brick, for a
+// brick that holds a few spheres); as words a brick costs 64 (3D) or 8 (2D). A sparse backend answers the
+// same from its leaves' value masks.
 #pragma once
 
 #include "rgvc/grid/BrickPyramid.hpp"
@@ -49,6 +58,11 @@ concept VoxelStorage = requires(S s, const S cs, VoxelKey k, ObjectSlot o, std::
     s.setUsed(k, stamp);
     { cs.visited(k, stamp) } -> std::convertible_to<bool>;
     s.setVisited(k, stamp);
+    { cs.rowWord(std::uint32_t{}, std::int32_t{}) } -> std::convertible_to<std::size_t>;
+    { cs.opaqueBits(std::size_t{}) } -> std::convertible_to<std::uint32_t>;
+    s.setVisitedBits(std::size_t{}, std::uint32_t{}, stamp);
+    { cs.usedBits(std::size_t{}, stamp) } -> std::convertible_to<std::uint32_t>;
+    s.setUsedBits(std::size_t{}, std::uint32_t{}, stamp);
     { cs.hasIds(k) } -> std::convertible_to<bool>;
     cs.forEachId(k, [](ObjectSlot) {});
     s.addId(k, o);
@@ -136,13 +150,57 @@ private:
     std::size_t m_count = 0;
 };
 
+/// The brick-row word layout (see the file's header): words per grid row, and a voxel's word and bit.
+/// [Limit] res.x >= 1.
+class BrickRowLayout {
+public:
+    BrickRowLayout() = default;
+    BrickRowLayout(std::int32_t resX, std::size_t rows) : m_resX(std::uint32_t(resX)), m_perRow(std::uint32_t((resX + 7) >> 3)), m_rows(rows) {}
+    /// Words in all (rows x words per row).
+    std::size_t size() const { return m_rows * m_perRow; }
+    /// The word of voxels x & ~7 .. (x & ~7) + 7 of row rowIndex (the row's key / res.x).
+    std::size_t word(std::uint32_t rowIndex, std::int32_t x) const { return std::size_t(rowIndex) * m_perRow + std::size_t(x >> 3); }
+    /// Voxel k's word, and its bit in it (one division: per-voxel callers only, never the brick walks).
+    std::size_t wordOf(VoxelKey k, std::uint32_t& bit) const {
+        const std::uint32_t row = k / m_resX, x = k - row * m_resX;
+        bit = 1u << (x & 7);
+        return std::size_t(row) * m_perRow + (x >> 3);
+    }
+
+private:
+    std::uint32_t m_resX = 1, m_perRow = 1;
+    std::size_t m_rows = 0;
+};
+
+/// V as stamped bit words, one per brick row: a word's bits hold for the frame of its stamp only, so that
+/// starting a frame clears V in O(1), as the cells' H stamps do.
+class StampedRowBits {
+public:
+    explicit StampedRowBits(std::size_t words = 0) : m_words(words) {}
+    std::uint32_t get(std::size_t w, std::uint32_t stamp) const { return m_words[w].stamp == stamp ? m_words[w].bits : 0u; }
+    /// ORs bits (the low 8) into word w for frame stamp.
+    void set(std::size_t w, std::uint32_t bits, std::uint32_t stamp) {
+        Word& x = m_words[w]; // (branch-free: the walks set words of every kind, stale or not)
+        x.bits = std::uint8_t((x.stamp == stamp ? x.bits : 0u) | bits);
+        x.stamp = std::uint16_t(stamp);
+    }
+    void reset() { std::fill(m_words.begin(), m_words.end(), Word{}); }
+
+private:
+    struct Word {
+        std::uint16_t stamp = 0;
+        std::uint8_t bits = 0;
+    };
+    std::vector<Word> m_words;
+};
+
 /// Dense arrays over the whole grid. What a traversal step reads and writes sits in one 8-byte cell per
-/// voxel: the I list head with O's flag in its top bit, and 16-bit H and V stamps. One cell, so that a step
+/// voxel: the I list head with O's flag in its top bit, and a 16-bit H stamp. One cell, so that a step
 /// touches one cache line whatever the axis it walks along (profiling the 3D traversal, which walks x faces
 /// with a stride of a whole row, showed one miss per matrix per voxel with separate arrays); 8 bytes, not
 /// the 16 of 32-bit stamps and an inline O count, so that twice as many voxels share the caches (the 3D
 /// traversal is bound by these reads). O's count (4 bytes, touched only when objects are rasterized) and the
-/// U stamps (2 bytes, read only at opaque voxels) live apart. A voxel's only id sits in the cell; two or more take
+/// brick-row words of O's flags, V and U (file header) live apart. A voxel's only id sits in the cell; two or more take
 /// a 16-byte bucket per three.
 /// Stamps are 16 bits: a full clear every 65,535 frames.
 template <int D> class DenseStorage {
@@ -150,8 +208,9 @@ public:
     static constexpr std::uint32_t kMaxStamp = 0xFFFF;
 
     explicit DenseStorage(const GridGeometry<D>& grid)
-        : m_cells(grid.voxelCount()), m_opaque(grid.voxelCount(), 0), m_used(grid.voxelCount(), 0),
-          m_bricks(grid.resolution()), m_res(grid.resolution()) {}
+        : m_cells(grid.voxelCount()), m_opaque(grid.voxelCount(), 0),
+          m_layout(grid.resolution().x, grid.voxelCount() / std::size_t(grid.resolution().x)),
+          m_opaqueBits(m_layout.size(), 0), m_visited(m_layout.size()), m_used(m_layout.size()), m_bricks(grid.resolution()), m_res(grid.resolution()) {}
 
     /// The block hierarchy over the grid (BrickPyramid.hpp): which bricks may hold ids. Writers of ids
     /// call noteIdsAdded for every run they add; readers that find a brick empty clear it.
@@ -183,14 +242,42 @@ public:
         const std::uint32_t n = std::uint32_t(std::int64_t(m_opaque[k]) + delta);
         m_opaque[k] = n;
         m_cells[k].head = (m_cells[k].head & ~kOpaqueBit) | (n != 0 ? kOpaqueBit : 0u);
+        std::uint32_t bit;
+        const std::size_t w = m_layout.wordOf(k, bit);
+        m_opaqueBits[w] = std::uint8_t(n != 0 ? m_opaqueBits[w] | bit : m_opaqueBits[w] & ~bit);
     }
+    /// The brick-row word of row rowIndex (its key / res.x) holding voxel x (see the file's header).
+    std::size_t rowWord(std::uint32_t rowIndex, std::int32_t x) const { return m_layout.word(rowIndex, x); }
+    const BrickRowLayout& rowLayout() const { return m_layout; }
+    /// O's flags of word w's 8 voxels (bit i: voxel x = 8 bx + i).
+    std::uint32_t opaqueBits(std::size_t w) const { return m_opaqueBits[w]; }
 
     bool occluded(VoxelKey k, std::uint32_t stamp) const { return m_cells[k].occluded == stamp; }
     void setOccluded(VoxelKey k, std::uint32_t stamp) { m_cells[k].occluded = std::uint16_t(stamp); }
-    bool used(VoxelKey k, std::uint32_t stamp) const { return m_used[k] == stamp; }
-    void setUsed(VoxelKey k, std::uint32_t stamp) { m_used[k] = std::uint16_t(stamp); }
-    bool visited(VoxelKey k, std::uint32_t stamp) const { return m_cells[k].visited == stamp; }
-    void setVisited(VoxelKey k, std::uint32_t stamp) { m_cells[k].visited = std::uint16_t(stamp); }
+    bool used(VoxelKey k, std::uint32_t stamp) const {
+        std::uint32_t bit;
+        const std::size_t w = m_layout.wordOf(k, bit);
+        return (m_used.get(w, stamp) & bit) != 0;
+    }
+    void setUsed(VoxelKey k, std::uint32_t stamp) {
+        std::uint32_t bit;
+        const std::size_t w = m_layout.wordOf(k, bit);
+        m_used.set(w, bit, stamp);
+    }
+    std::uint32_t usedBits(std::size_t w, std::uint32_t stamp) const { return m_used.get(w, stamp); }
+    void setUsedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_used.set(w, bits, stamp); }
+    bool visited(VoxelKey k, std::uint32_t stamp) const {
+        std::uint32_t bit;
+        const std::size_t w = m_layout.wordOf(k, bit);
+        return (m_visited.get(w, stamp) & bit) != 0;
+    }
+    void setVisited(VoxelKey k, std::uint32_t stamp) {
+        std::uint32_t bit;
+        const std::size_t w = m_layout.wordOf(k, bit);
+        m_visited.set(w, bit, stamp);
+    }
+    /// Marks word w's voxels of `bits` visited in frame stamp (the others keep their marks).
+    void setVisitedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_visited.set(w, bits, stamp); }
 
     bool hasIds(VoxelKey k) const { return (m_cells[k].head & ~kOpaqueBit) != kNoList; }
     template <class Fn> void forEachId(VoxelKey k, Fn&& fn) const {
@@ -252,8 +339,9 @@ public:
 
     /// Called when the frame stamp passes kMaxStamp: every stamp back to "never".
     void resetStamps() {
-        for (Cell& c : m_cells) c.occluded = c.visited = 0;
-        std::fill(m_used.begin(), m_used.end(), std::uint16_t(0));
+        for (Cell& c : m_cells) c.occluded = 0;
+        m_visited.reset();
+        m_used.reset();
     }
 
     /// Incidences currently stored in I (for stats and consistency tests).
@@ -275,12 +363,14 @@ private:
     struct Cell {
         std::uint32_t head = kNoList; // I: kNoList, an inline id or a list head; O flag in the top bit
         std::uint16_t occluded = 0;
-        std::uint16_t visited = 0;
     };
     static_assert(sizeof(Cell) == 8);
     std::vector<Cell> m_cells;
     std::vector<std::uint32_t> m_opaque; // O counts
-    std::vector<std::uint16_t> m_used;
+    BrickRowLayout m_layout;
+    std::vector<std::uint8_t> m_opaqueBits; // O's flags as brick-row words
+    StampedRowBits m_visited;               // V
+    StampedRowBits m_used;                  // U
     BrickPyramid<D> m_bricks;
     IVec<D> m_res;
     SlotBucketPool m_ids;

@@ -31,6 +31,7 @@
 #pragma once
 
 #include "rgvc/grid/BrickPyramid.hpp"
+#include "rgvc/grid/BrickRows.hpp"
 #include "rgvc/grid/BrickWalk.hpp"
 #include "rgvc/grid/GridGeometry.hpp"
 #include "rgvc/grid/OcclusionBuffer2D.hpp"
@@ -117,30 +118,37 @@ private:
         // lies behind it in the same brick.
         bool anyIds = false;
         std::uint8_t inView[8] = {0, 0, 0, 0, 0, 0, 0, 0}, ids[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+        std::size_t words[8];
+        const std::uint32_t all = (1u << (hi.x - lo.x)) - 1u;
         for (std::int32_t y = lo.y; y < hi.y; ++y) {
             const VoxelKey row = grid.linearIndex(IVec2{0, y});
-            std::uint8_t view = 0, hold = 0;
+            const std::size_t word = words[y - lo.y] = storage.rowWord(std::uint32_t(y), lo.x);
+            std::uint32_t view = whole ? all : 0, hold = 0;
             for (std::int32_t x = lo.x; x < hi.x; ++x) {
-                const VoxelKey k(row + std::uint32_t(x));
-                const bool in = whole || wedge.touchesVoxel(IVec2{x, y});
-                view |= std::uint8_t(in) << (x - lo.x);
-                hold |= std::uint8_t(storage.hasIds(k)) << (x - lo.x);
-                if (in && image != nullptr && storage.opaque(k) && !storage.used(k, stamp))
-                    drawFusedBox(grid, storage, wedge, *image, IVec2{x, y}, stamp, insideObject, st);
+                if (!whole) view |= std::uint32_t(wedge.touchesVoxel(IVec2{x, y})) << (x - lo.x);
+                hold |= std::uint32_t(storage.hasIds(VoxelKey(row + std::uint32_t(x)))) << (x - lo.x);
             }
-            inView[y - lo.y] = view;
-            ids[y - lo.y] = hold;
+            // O's word (lo.x is a multiple of 8: bit x - lo.x), its voxels in view only.
+            // (U read only where O is set, and again after each box: a box marks later voxels of the row used.)
+            if (std::uint32_t bits = image != nullptr ? storage.opaqueBits(word) & view : 0u; bits != 0)
+                for (bits &= ~storage.usedBits(word, stamp); bits != 0; bits &= ~storage.usedBits(word, stamp)) {
+                    const std::int32_t x = lo.x + std::countr_zero(bits);
+                    bits &= bits - 1;
+                    drawFusedBox(grid, storage, wedge, *image, IVec2{x, y}, stamp, insideObject, st);
+                }
+            inView[y - lo.y] = std::uint8_t(view);
+            ids[y - lo.y] = std::uint8_t(hold);
             anyIds = anyIds || hold != 0;
         }
-        // Pass 2: visit.
+        // Pass 2: visit (V's word at once, then the ids' voxels).
         for (std::int32_t y = lo.y; y < hi.y; ++y) {
             const VoxelKey row = grid.linearIndex(IVec2{0, y});
-            for (std::uint32_t bits = inView[y - lo.y]; bits != 0; bits &= bits - 1) {
+            const std::uint32_t view = inView[y - lo.y];
+            storage.setVisitedBits(words[y - lo.y], view, stamp);
+            st.voxelsVisited += std::uint64_t(std::popcount(view));
+            for (std::uint32_t bits = view & ids[y - lo.y]; bits != 0; bits &= bits - 1) {
                 const std::int32_t x = lo.x + std::countr_zero(bits);
-                const VoxelKey key(row + std::uint32_t(x));
-                storage.setVisited(key, stamp);
-                ++st.voxelsVisited;
-                if (((ids[y - lo.y] >> (x - lo.x)) & 1) != 0) onVoxel(key, IVec2{x, y});
+                onVoxel(VoxelKey(row + std::uint32_t(x)), IVec2{x, y});
             }
         }
         if (tbvHere)
@@ -165,21 +173,12 @@ private:
     void drawFusedBox(const GridGeometry2& grid, Storage& storage, const ViewWedge& wedge, OcclusionBuffer2D& image,
                       const IVec2& v, std::uint32_t stamp, InsideObject& insideObject, BrickTraversalStats2D& st) {
         const IVec2 res = grid.resolution();
-        auto opaqueAt = [&](std::int32_t x, std::int32_t y) { return storage.opaque(grid.linearIndex(IVec2{x, y})); };
         IVec2 lo = v, hi = v; // inclusive
-        while (hi.x + 1 < res.x && hi.x - v.x < kMaxGrow && opaqueAt(hi.x + 1, v.y)) ++hi.x;
-        while (lo.x > 0 && v.x - lo.x < kMaxGrow && opaqueAt(lo.x - 1, v.y)) --lo.x;
-        auto rowOpaque = [&](std::int32_t y) {
-            for (std::int32_t x = lo.x; x <= hi.x; ++x)
-                if (!opaqueAt(x, y)) return false;
-            return true;
-        };
+        brick_rows::opaqueRun(storage, std::uint32_t(v.y), res.x, v.x, kMaxGrow, lo.x, hi.x);
+        auto rowOpaque = [&](std::int32_t y) { return brick_rows::allOpaque(storage, std::uint32_t(y), lo.x, hi.x); };
         while (hi.y + 1 < res.y && hi.y - v.y < kMaxGrow && rowOpaque(hi.y + 1)) ++hi.y;
         while (lo.y > 0 && v.y - lo.y < kMaxGrow && rowOpaque(lo.y - 1)) --lo.y;
-        for (std::int32_t y = lo.y; y <= hi.y; ++y) {
-            const VoxelKey row = grid.linearIndex(IVec2{0, y});
-            for (std::int32_t x = lo.x; x <= hi.x; ++x) storage.setUsed(VoxelKey(row + std::uint32_t(x)), stamp);
-        }
+        for (std::int32_t y = lo.y; y <= hi.y; ++y) brick_rows::markUsed(storage, std::uint32_t(y), lo.x, hi.x, stamp);
         // A box inside one box object repeats that object, which the caller draws when it classifies it.
         if (insideObject(grid.linearIndex(v), lo, hi)) return;
         image.draw(Box<2>{Vec2(lo), Vec2(hi + 1)}, wedge.slack());

@@ -31,6 +31,7 @@
 #pragma once
 
 #include "rgvc/grid/BrickPyramid.hpp"
+#include "rgvc/grid/BrickRows.hpp"
 #include "rgvc/grid/BrickWalk.hpp"
 #include "rgvc/grid/GridGeometry.hpp"
 #include "rgvc/grid/OcclusionBuffer3D.hpp"
@@ -188,28 +189,34 @@ private:
         }
         const bool inCone = straddled == 0;
         const VoxelRowClipper clipper(frustum, straddled);
+        const std::uint32_t resY = std::uint32_t(grid.resolution().y);
         int rows = 0;
         for (std::int32_t z = lo.z; z < hi.z; ++z)
             for (std::int32_t y = lo.y; y < hi.y; ++y) {
                 RowInfo& r = m_rows[std::size_t(rows++)];
                 r.key = grid.linearIndex(IVec3{0, y, z});
+                r.word = storage.rowWord(std::uint32_t(y) + resY * std::uint32_t(z), lo.x);
                 r.y = y;
                 r.z = z;
-                std::uint32_t ids = 0, opaque = 0; // bit x - lo.x
-                for (std::int32_t x = lo.x; x < hi.x; ++x) {
-                    const VoxelKey k(r.key + std::uint32_t(x));
-                    if constexpr (!kLists) ids |= std::uint32_t(storage.hasIds(k)) << (x - lo.x);
-                    opaque |= std::uint32_t(storage.opaque(k)) << (x - lo.x);
-                }
+                std::uint32_t ids = 0; // bit x - lo.x
+                if constexpr (!kLists)
+                    for (std::int32_t x = lo.x; x < hi.x; ++x) ids |= std::uint32_t(storage.hasIds(VoxelKey(r.key + std::uint32_t(x)))) << (x - lo.x);
                 anyIds = anyIds || ids != 0;
                 r.ids = ids;
                 r.u0 = lo.x;
                 r.u1 = hi.x - 1;
                 if (!inCone && !clipper.clip(y, z, r.u0, r.u1)) r.u0 = 1, r.u1 = 0;
-                if (image == nullptr || opaque == 0) continue;
-                for (std::int32_t x = r.u0; x <= r.u1; ++x)
-                    if (((opaque >> (x - lo.x)) & 1) != 0 && !storage.used(VoxelKey(r.key + std::uint32_t(x)), stamp))
-                        drawFusedBox(grid, storage, frustum, *image, IVec3{x, y, z}, stamp, insideObject, st);
+                if (image == nullptr || r.u0 > r.u1) continue;
+                // O's word (lo.x is a multiple of 8: bit x - lo.x), the span's opaque voxels only.
+                const std::uint32_t span = ((2u << (r.u1 - r.u0)) - 1u) << (r.u0 - lo.x);
+                std::uint32_t bits = storage.opaqueBits(r.word) & span;
+                if (bits == 0) continue; // (most rows: U is read only where O is set, and again after each box,
+                                         // which marks later voxels of the row used)
+                for (bits &= ~storage.usedBits(r.word, stamp); bits != 0; bits &= ~storage.usedBits(r.word, stamp)) {
+                    const std::int32_t x = lo.x + std::countr_zero(bits);
+                    bits &= bits - 1;
+                    drawFusedBox(grid, storage, frustum, *image, IVec3{x, y, z}, stamp, insideObject, st);
+                }
             }
         // The caller's list of the brick's objects, after the fused boxes as the ids would be.
         if constexpr (kLists) anyIds = onBrickIds(brick);
@@ -221,9 +228,9 @@ private:
             if (!hasFar) {
                 // The whole span is visited: its mask at once, the ids' voxels by their bits.
                 if (r.u0 > r.u1) continue;
-                for (std::int32_t x = r.u0; x <= r.u1; ++x) storage.setVisited(VoxelKey(r.key + std::uint32_t(x)), stamp);
                 st.voxelsVisited += std::uint64_t(r.u1 - r.u0 + 1);
                 inView = ((2u << (r.u1 - r.u0)) - 1u) << (r.u0 - lo.x);
+                storage.setVisitedBits(r.word, inView, stamp);
                 for (std::uint32_t bits = r.ids & inView; bits != 0; bits &= bits - 1) {
                     const std::int32_t x = lo.x + std::countr_zero(bits);
                     onVoxel(VoxelKey(r.key + std::uint32_t(x)), IVec3{x, r.y, r.z});
@@ -232,11 +239,10 @@ private:
                 for (std::int32_t x = r.u0; x <= r.u1; ++x) {
                     const IVec3 v{x, r.y, r.z};
                     if (!frustum.withinFar(Vec3(v), Vec3(v) + 1.0)) continue;
-                    const VoxelKey key(r.key + std::uint32_t(x));
-                    storage.setVisited(key, stamp);
                     ++st.voxelsVisited;
                     inView |= 1u << (x - lo.x);
-                    if (((r.ids >> (x - lo.x)) & 1) != 0) onVoxel(key, v);
+                    storage.setVisitedBits(r.word, 1u << (x - lo.x), stamp);
+                    if (((r.ids >> (x - lo.x)) & 1) != 0) onVoxel(VoxelKey(r.key + std::uint32_t(x)), v);
                 }
             }
             visible[r.z - lo.z] |= std::uint64_t(inView) << (8 * (r.y - lo.y));
@@ -268,17 +274,12 @@ private:
     void drawFusedBox(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D& image,
                       const IVec3& v, std::uint32_t stamp, InsideObject& insideObject, BrickTraversalStats3D& st) {
         const IVec3 res = grid.resolution();
-        auto opaqueAt = [&](std::int32_t x, std::int32_t y, std::int32_t z) {
-            return storage.opaque(grid.linearIndex(IVec3{x, y, z}));
-        };
+        // Row index of (y, z): its key / res.x (VoxelStorage.hpp's brick-row words).
+        auto rowOf = [&](std::int32_t y, std::int32_t z) { return std::uint32_t(y) + std::uint32_t(res.y) * std::uint32_t(z); };
         IVec3 lo = v, hi = v; // inclusive
-        while (hi.x + 1 < res.x && hi.x - v.x < kMaxGrow && opaqueAt(hi.x + 1, v.y, v.z)) ++hi.x;
-        while (lo.x > 0 && v.x - lo.x < kMaxGrow && opaqueAt(lo.x - 1, v.y, v.z)) --lo.x;
-        auto rowOpaque = [&](std::int32_t y, std::int32_t z) {
-            for (std::int32_t x = lo.x; x <= hi.x; ++x)
-                if (!opaqueAt(x, y, z)) return false;
-            return true;
-        };
+        const std::uint32_t seedRow = rowOf(v.y, v.z);
+        brick_rows::opaqueRun(storage, seedRow, res.x, v.x, kMaxGrow, lo.x, hi.x);
+        auto rowOpaque = [&](std::int32_t y, std::int32_t z) { return brick_rows::allOpaque(storage, rowOf(y, z), lo.x, hi.x); };
         while (hi.y + 1 < res.y && hi.y - v.y < kMaxGrow && rowOpaque(hi.y + 1, v.z)) ++hi.y;
         while (lo.y > 0 && v.y - lo.y < kMaxGrow && rowOpaque(lo.y - 1, v.z)) --lo.y;
         auto sliceOpaque = [&](std::int32_t z) {
@@ -289,10 +290,7 @@ private:
         while (hi.z + 1 < res.z && hi.z - v.z < kMaxGrow && sliceOpaque(hi.z + 1)) ++hi.z;
         while (lo.z > 0 && v.z - lo.z < kMaxGrow && sliceOpaque(lo.z - 1)) --lo.z;
         for (std::int32_t z = lo.z; z <= hi.z; ++z)
-            for (std::int32_t y = lo.y; y <= hi.y; ++y) {
-                const VoxelKey row = grid.linearIndex(IVec3{0, y, z});
-                for (std::int32_t x = lo.x; x <= hi.x; ++x) storage.setUsed(VoxelKey(row + std::uint32_t(x)), stamp);
-            }
+            for (std::int32_t y = lo.y; y <= hi.y; ++y) brick_rows::markUsed(storage, rowOf(y, z), lo.x, hi.x, stamp);
         // A box inside one box object (a wall, a building) repeats that object, which is drawn when the
         // brick's ids are classified (or is hidden, and then so is this box): the room's six walls and
         // the game world's buildings were drawn twice.
@@ -306,6 +304,7 @@ private:
 
     struct RowInfo {
         VoxelKey key = 0;
+        std::size_t word = 0; // the row's brick-row word (VoxelStorage.hpp)
         std::int32_t y = 0, z = 0, u0 = 0, u1 = -1;
         std::uint32_t ids = 0;
     };
