@@ -40,28 +40,12 @@ public:
 
     bool occluded(VoxelKey k, std::uint32_t stamp) const { return m_stamps[k].occluded == stamp; }
     void setOccluded(VoxelKey k, std::uint32_t stamp) { m_stamps[k].occluded = std::uint16_t(stamp); }
-    bool used(VoxelKey k, std::uint32_t stamp) const {
-        std::uint32_t bit;
-        const std::size_t w = m_scene->rowLayout().wordOf(k, bit);
-        return (m_used.get(w, stamp) & bit) != 0;
-    }
-    void setUsed(VoxelKey k, std::uint32_t stamp) {
-        std::uint32_t bit;
-        const std::size_t w = m_scene->rowLayout().wordOf(k, bit);
-        m_used.set(w, bit, stamp);
-    }
+    bool used(VoxelKey k, std::uint32_t stamp) const { return m_used.voxel(m_scene->rowLayout(), k, stamp); }
+    void setUsed(VoxelKey k, std::uint32_t stamp) { m_used.setVoxel(m_scene->rowLayout(), k, stamp); }
     std::uint32_t usedBits(std::size_t w, std::uint32_t stamp) const { return m_used.get(w, stamp); }
     void setUsedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_used.set(w, bits, stamp); }
-    bool visited(VoxelKey k, std::uint32_t stamp) const {
-        std::uint32_t bit;
-        const std::size_t w = m_scene->rowLayout().wordOf(k, bit);
-        return (m_visited.get(w, stamp) & bit) != 0;
-    }
-    void setVisited(VoxelKey k, std::uint32_t stamp) {
-        std::uint32_t bit;
-        const std::size_t w = m_scene->rowLayout().wordOf(k, bit);
-        m_visited.set(w, bit, stamp);
-    }
+    bool visited(VoxelKey k, std::uint32_t stamp) const { return m_visited.voxel(m_scene->rowLayout(), k, stamp); }
+    void setVisited(VoxelKey k, std::uint32_t stamp) { m_visited.setVoxel(m_scene->rowLayout(), k, stamp); }
     void setVisitedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_visited.set(w, bits, stamp); }
     void resetStamps() {
         for (Stamps& s : m_stamps) s = Stamps{};

@@ -172,7 +172,7 @@ private:
     std::size_t m_rows = 0;
 };
 
-/// V as stamped bit words, one per brick row: a word's bits hold for the frame of its stamp only, so that
+/// V and U as stamped bit words, one per brick row: a word's bits hold for the frame of its stamp only, so that
 /// starting a frame clears V in O(1), as the cells' H stamps do.
 class StampedRowBits {
 public:
@@ -185,6 +185,17 @@ public:
         x.stamp = std::uint16_t(stamp);
     }
     void reset() { std::fill(m_words.begin(), m_words.end(), Word{}); }
+    /// Voxel k's bit (the per-voxel callers, through `layout`'s division).
+    bool voxel(const BrickRowLayout& layout, VoxelKey k, std::uint32_t stamp) const {
+        std::uint32_t bit;
+        const std::size_t w = layout.wordOf(k, bit);
+        return (get(w, stamp) & bit) != 0;
+    }
+    void setVoxel(const BrickRowLayout& layout, VoxelKey k, std::uint32_t stamp) {
+        std::uint32_t bit;
+        const std::size_t w = layout.wordOf(k, bit);
+        set(w, bit, stamp);
+    }
 
 private:
     struct Word {
@@ -254,28 +265,12 @@ public:
 
     bool occluded(VoxelKey k, std::uint32_t stamp) const { return m_cells[k].occluded == stamp; }
     void setOccluded(VoxelKey k, std::uint32_t stamp) { m_cells[k].occluded = std::uint16_t(stamp); }
-    bool used(VoxelKey k, std::uint32_t stamp) const {
-        std::uint32_t bit;
-        const std::size_t w = m_layout.wordOf(k, bit);
-        return (m_used.get(w, stamp) & bit) != 0;
-    }
-    void setUsed(VoxelKey k, std::uint32_t stamp) {
-        std::uint32_t bit;
-        const std::size_t w = m_layout.wordOf(k, bit);
-        m_used.set(w, bit, stamp);
-    }
+    bool used(VoxelKey k, std::uint32_t stamp) const { return m_used.voxel(m_layout, k, stamp); }
+    void setUsed(VoxelKey k, std::uint32_t stamp) { m_used.setVoxel(m_layout, k, stamp); }
     std::uint32_t usedBits(std::size_t w, std::uint32_t stamp) const { return m_used.get(w, stamp); }
     void setUsedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_used.set(w, bits, stamp); }
-    bool visited(VoxelKey k, std::uint32_t stamp) const {
-        std::uint32_t bit;
-        const std::size_t w = m_layout.wordOf(k, bit);
-        return (m_visited.get(w, stamp) & bit) != 0;
-    }
-    void setVisited(VoxelKey k, std::uint32_t stamp) {
-        std::uint32_t bit;
-        const std::size_t w = m_layout.wordOf(k, bit);
-        m_visited.set(w, bit, stamp);
-    }
+    bool visited(VoxelKey k, std::uint32_t stamp) const { return m_visited.voxel(m_layout, k, stamp); }
+    void setVisited(VoxelKey k, std::uint32_t stamp) { m_visited.setVoxel(m_layout, k, stamp); }
     /// Marks word w's voxels of `bits` visited in frame stamp (the others keep their marks).
     void setVisitedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_visited.set(w, bits, stamp); }
 
