@@ -3,6 +3,7 @@
 // --dump-objects motion, and the end-to-end guarantee on the example scenes (RGVC_SCENES_DIR): every
 // exactly visible object of every frame is in the printed PVS.
 #include "SceneFile.hpp"
+#include "rgvc/config.hpp"
 #include "SceneMotion.hpp"
 #include "SceneWriter.hpp"
 #include "ExactVisibility2D.hpp"
@@ -165,6 +166,7 @@ TEST_CASE("rgvc --help, cull --help, --version", "[cli]") {
     r = runRgvc("--version");
     CHECK(r.status == 0);
     CHECK(r.out.rfind("rgvc ", 0) == 0);
+    CHECK(r.out.find("(built for " RGVC_SIMD_LEVEL ")") != std::string::npos);
 }
 
 TEST_CASE("bad usage: status 2, one line, nothing on stdout", "[cli]") {

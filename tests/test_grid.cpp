@@ -1,5 +1,6 @@
 // GridGeometry (world <-> voxel mapping, bounds convention, linear indices, input validation) and the
-// dense VoxelStorage, checked against brute force. Tag: [grid].
+// dense VoxelStorage, checked against brute force; and the build's RGVC_SIMD setting. Tag: [grid].
+#include "rgvc/config.hpp"
 #include "rgvc/grid/GridGeometry.hpp"
 #include "rgvc/grid/Shapes.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
@@ -45,6 +46,24 @@ long double refLocal(double world, double origin, double d) {
 }
 
 } // namespace
+
+// RGVC_SIMD (top-level CMakeLists.txt): config.hpp must say what the code was compiled for (the tests get
+// the libraries' flags through rgvc_warnings), and an AVX2 build only ever runs where AVX2 is: AUTO
+// chose it by running a probe on this machine, and SimdGuard.cpp would have aborted otherwise.
+TEST_CASE("RGVC_SIMD: config.hpp matches the compiler's target, and the CPU runs it", "[grid]") {
+    INFO("RGVC_SIMD_LEVEL = " RGVC_SIMD_LEVEL);
+#if defined(__AVX2__)
+    CHECK(RGVC_SIMD_AVX2 == 1);
+    CHECK(std::string(RGVC_SIMD_LEVEL) == "avx2");
+#else
+    CHECK(RGVC_SIMD_AVX2 == 0);
+    CHECK(std::string(RGVC_SIMD_LEVEL) == "default");
+#endif
+#if RGVC_SIMD_AVX2 && (defined(__x86_64__) || defined(__i386__))
+    __builtin_cpu_init();
+    CHECK(__builtin_cpu_supports("avx2"));
+#endif
+}
 
 TEST_CASE("GridGeometry accessors and voxel count", "[grid]") {
     GridGeometry2 g2(Vec2(-1.5, 2.0), 0.5, IVec2(7, 3));

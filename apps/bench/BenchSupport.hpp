@@ -2,6 +2,8 @@
 // rgvc_bench_dynamic, rgvc_bench_gl).
 #pragma once
 
+#include <rgvc/config.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -45,13 +47,18 @@ inline long rssKiB() {
     return 0;
 }
 
-/// The CPU's model name, for the benchmark's header line.
+/// The CPU's model name and the instruction set rgvc was compiled for (RGVC_SIMD), for the benchmark's
+/// header line: figures of an AVX2 build and of a default one are not comparable.
 inline std::string machine() {
     std::ifstream f("/proc/cpuinfo");
     std::string line;
+    std::string cpu = "unknown CPU";
     while (std::getline(f, line))
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    return "unknown CPU";
+        if (line.rfind("model name", 0) == 0) {
+            cpu = line.substr(line.find(':') + 2);
+            break;
+        }
+    return cpu + " (rgvc built for " RGVC_SIMD_LEVEL ")";
 }
 
 /// A one-line progress bar on stdout, rewritten in place with '\r', for runs of minutes. Silent when

@@ -2,6 +2,8 @@
 // exception ends the process by std::terminate: whatever escapes becomes one line on stderr.
 #include "Commands.hpp"
 
+#include <rgvc/config.hpp>
+
 #include <cstring>
 #include <exception>
 #include <iostream>
@@ -43,7 +45,7 @@ int dispatch(int argc, char** argv) {
         return 0;
     }
     if (cmd == "--version") {
-        std::cout << "rgvc " << RGVC_VERSION << "\n";
+        std::cout << "rgvc " << RGVC_VERSION << " (built for " << RGVC_SIMD_LEVEL << ")\n";
         return 0;
     }
     if (cmd == "cull") return rgvc::cli::runCull(argc - 1, argv + 1);

@@ -7,6 +7,7 @@
 #include "rgvc/dynamics/Culler.hpp"
 
 #include "CullerImpl.hpp"
+#include "rgvc/grid/SimdGuard.hpp"
 
 #include <stdexcept>
 
@@ -18,6 +19,12 @@
 #include <utility>
 
 namespace rgvc {
+
+namespace {
+// Takes grid/src/SimdGuard.cpp (the AVX2 start-up check of an RGVC_SIMD build) into every program that
+// links the culler: a static library's object file is linked only when one of its symbols is used.
+[[gnu::used]] const int* const s_simdGuard = &detail::kSimdGuardAnchor;
+} // namespace
 
 const char* toString(Fallback f) {
     switch (f) {
