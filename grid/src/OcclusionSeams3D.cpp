@@ -98,15 +98,17 @@ bool covered(const Poly& q, const ImageFootprint3D* const* polys, int n) {
     const double margin = marginOf(p);
     if (inside(q, p, margin)) return true;
     if (n == 1) return false;
-    // The pieces of q outside p shrunk by the margin: q n H0' n ... n H(k-1)' n not Hk'.
-    Poly rest = q, piece, next;
-    for (int e = 0; e < p.n && rest.n >= 3; ++e) {
+    // The pieces of q outside p shrunk by the margin: q n H0' n ... n H(k-1)' n not Hk'. The remainder
+    // ping-pongs between two buffers (a Poly is 784 bytes; copying it per edge was a third of the test).
+    Poly piece, buf[2];
+    const Poly* rest = &q;
+    for (int e = 0, w = 0; e < p.n && rest->n >= 3; ++e, w ^= 1) {
         const int m = e + 1 == p.n ? 0 : e + 1;
         const double ax = p.x[e], ay = p.y[e], bx = p.x[m], by = p.y[m];
-        clip(rest, [&](double x, double y) { return margin - edgeSide(ax, ay, bx, by, x, y); }, piece);
+        clip(*rest, [&](double x, double y) { return margin - edgeSide(ax, ay, bx, by, x, y); }, piece);
         if (piece.n >= 3 && !covered(piece, polys + 1, n - 1)) return false;
-        clip(rest, [&](double x, double y) { return edgeSide(ax, ay, bx, by, x, y) - margin; }, next);
-        rest = next;
+        clip(*rest, [&](double x, double y) { return edgeSide(ax, ay, bx, by, x, y) - margin; }, buf[w]);
+        rest = &buf[w];
     }
     return true;
 }
@@ -210,9 +212,9 @@ bool OcclusionBuffer3D::fusedDepth(int i, int j, const std::uint32_t* boxes, int
     Poly q;
     const double x0 = m_cornerX[std::size_t(i)], x1 = m_cornerX[std::size_t(i) + 1];
     const double y0 = m_cornerY[std::size_t(j)], y1 = m_cornerY[std::size_t(j) + 1];
-    q.n = 4;
-    q.x = {x0, x1, x1, x0};
-    q.y = {y0, y0, y1, y1};
+    q.n = 4; // (element by element: a braced list would zero the other 44 entries of each array)
+    q.x[0] = x0, q.x[1] = x1, q.x[2] = x1, q.x[3] = x0;
+    q.y[0] = y0, q.y[1] = y0, q.y[2] = y1, q.y[3] = y1;
     const ImageFootprint3D* polys[3] = {nullptr, nullptr, nullptr};
     for (int k = 0; k < n; ++k) polys[k] = &m_seamBoxes[boxes[k] - 1].poly;
     if (!covered(q, polys, n)) return false;
@@ -220,15 +222,16 @@ bool OcclusionBuffer3D::fusedDepth(int i, int j, const std::uint32_t* boxes, int
     depth = 0;
     for (int k = 0; k < n; ++k) {
         const SeamBox& b = m_seamBoxes[boxes[k] - 1];
-        Poly part = q, next;
-        for (int e = 0; e < b.poly.n && part.n > 0; ++e) {
+        Poly buf[2]; // ping-pong, as in covered()
+        const Poly* part = &q;
+        for (int e = 0, w = 0; e < b.poly.n && part->n > 0; ++e, w ^= 1) {
             const int m = e + 1 == b.poly.n ? 0 : e + 1;
             const double ax = b.poly.x[e], ay = b.poly.y[e], bx = b.poly.x[m], by = b.poly.y[m];
-            clip(part, [&](double x, double y) { return edgeSide(ax, ay, bx, by, x, y); }, next);
-            part = next;
+            clip(*part, [&](double x, double y) { return edgeSide(ax, ay, bx, by, x, y); }, buf[w]);
+            part = &buf[w];
         }
-        for (int v = 0; v < part.n; ++v) {
-            const Vec3 d = glm::normalize(m_forward + part.x[v] * m_right + part.y[v] * m_up);
+        for (int v = 0; v < part->n; ++v) {
+            const Vec3 d = glm::normalize(m_forward + part->x[v] * m_right + part->y[v] * m_up);
             double tEnter = -kInf, tExit = kInf;
             for (int a = 0; a < 3; ++a) {
                 if (d[a] == 0) {
