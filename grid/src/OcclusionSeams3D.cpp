@@ -48,11 +48,13 @@ struct Poly {
     int n = 0;
 };
 
-/// Signed distance of p from the edge a -> b of a counter-clockwise polygon, positive inside, minus `shift`.
-double edgeSide(double ax, double ay, double bx, double by, double px, double py) {
-    const double ex = bx - ax, ey = by - ay;
-    const double len = std::sqrt(ex * ex + ey * ey);
-    return len > 0 ? (ex * (py - ay) - ey * (px - ax)) / len : -kInf;
+/// Signed distance of p from edge e of a seam box's polygon, positive inside (SeamBox::ea, eb, ec: the
+/// line through the edge with its unit inward normal, so a test costs two products, where computing it
+/// from the vertices took a square root and a division each time). A degenerate edge is -inf everywhere.
+/// Rounding: the image-plane coordinates are at most a few units (tan of half the field of view), so the
+/// value is off by ~1e-15, far below the tests' margin (1e-9).
+double edgeSide(const ImageSeamBox3D& p, int e, double px, double py) {
+    return p.ea[e] * px + p.eb[e] * py + p.ec[e];
 }
 
 /// Margin of the polygon tests in image coordinates: far above the projection's rounding, far below a pixel.
@@ -80,34 +82,30 @@ template <class Side> void clip(const Poly& in, Side&& side, Poly& out) {
     }
 }
 
-/// Every vertex of q inside f with the margin to spare (so q, convex, lies in f).
-bool inside(const Poly& q, const ImageFootprint3D& f, double margin) {
-    for (int e = 0; e < f.n; ++e) {
-        const int m = e + 1 == f.n ? 0 : e + 1;
+/// Every vertex of q inside p's polygon with the margin to spare (so q, convex, lies in it).
+bool inside(const Poly& q, const ImageSeamBox3D& p, double margin) {
+    for (int e = 0; e < p.poly.n; ++e)
         for (int k = 0; k < q.n; ++k)
-            if (!(edgeSide(f.x[e], f.y[e], f.x[m], f.y[m], q.x[k], q.y[k]) >= margin)) return false;
-    }
+            if (!(edgeSide(p, e, q.x[k], q.y[k]) >= margin)) return false;
     return true;
 }
 
-/// Whether the convex polygon q lies in the union of polys[0..n).
-bool covered(const Poly& q, const ImageFootprint3D* const* polys, int n) {
+/// Whether the convex polygon q lies in the union of the polygons of boxes[0..n).
+bool covered(const Poly& q, const ImageSeamBox3D* const* boxes, int n) {
     if (q.n < 3) return true; // nothing of positive area left
     if (n == 0) return false;
-    const ImageFootprint3D& p = *polys[0];
-    const double margin = marginOf(p);
+    const ImageSeamBox3D& p = *boxes[0];
+    const double margin = p.margin;
     if (inside(q, p, margin)) return true;
     if (n == 1) return false;
     // The pieces of q outside p shrunk by the margin: q n H0' n ... n H(k-1)' n not Hk'. The remainder
     // ping-pongs between two buffers (a Poly is 784 bytes; copying it per edge was a third of the test).
     Poly piece, buf[2];
     const Poly* rest = &q;
-    for (int e = 0, w = 0; e < p.n && rest->n >= 3; ++e, w ^= 1) {
-        const int m = e + 1 == p.n ? 0 : e + 1;
-        const double ax = p.x[e], ay = p.y[e], bx = p.x[m], by = p.y[m];
-        clip(*rest, [&](double x, double y) { return margin - edgeSide(ax, ay, bx, by, x, y); }, piece);
-        if (piece.n >= 3 && !covered(piece, polys + 1, n - 1)) return false;
-        clip(*rest, [&](double x, double y) { return edgeSide(ax, ay, bx, by, x, y) - margin; }, buf[w]);
+    for (int e = 0, w = 0; e < p.poly.n && rest->n >= 3; ++e, w ^= 1) {
+        clip(*rest, [&](double x, double y) { return margin - edgeSide(p, e, x, y); }, piece);
+        if (piece.n >= 3 && !covered(piece, boxes + 1, n - 1)) return false;
+        clip(*rest, [&](double x, double y) { return edgeSide(p, e, x, y) - margin; }, buf[w]);
         rest = &buf[w];
     }
     return true;
@@ -115,9 +113,34 @@ bool covered(const Poly& q, const ImageFootprint3D* const* polys, int n) {
 
 } // namespace
 
+namespace {
+/// The box's margin and edge lines (edgeSide), computed the first time a fusion test needs them: most
+/// boxes of a cloud of small ones never meet a second box at a pixel whose corners they share.
+void prepareLines(ImageSeamBox3D& b) {
+    if (b.linesReady) return;
+    b.linesReady = true;
+    b.margin = marginOf(b.poly);
+    for (int e = 0; e < b.poly.n; ++e) {
+        const int m = e + 1 == b.poly.n ? 0 : e + 1;
+        const double ax = b.poly.x[e], ay = b.poly.y[e], ex = b.poly.x[m] - ax, ey = b.poly.y[m] - ay;
+        const double len = std::sqrt(ex * ex + ey * ey);
+        if (len > 0) {
+            b.ea[e] = -ey / len;
+            b.eb[e] = ex / len;
+            b.ec[e] = (ey * ax - ex * ay) / len;
+        } else {
+            b.ea[e] = b.eb[e] = 0;
+            b.ec[e] = -kInf;
+        }
+    }
+}
+} // namespace
+
 std::uint32_t OcclusionBuffer3D::addSeamBox(const Vec3& lo, const Vec3& hi) {
     if (m_seamBoxes.size() >= 0xFFFEu) return 0; // the per-pixel slots hold 16 bits
-    SeamBox b{lo, hi, 0.0, 0.0, 0.0, {}};
+    SeamBox b{};
+    b.lo = lo;
+    b.hi = hi;
     const Vec3 far{std::max(-lo.x, hi.x), std::max(-lo.y, hi.y), std::max(-lo.z, hi.z)};
     b.farthest = std::sqrt(lengthSquared<3>(far));
     const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), lo, hi)));
@@ -195,7 +218,7 @@ void OcclusionBuffer3D::notePartial(int i, int j, std::uint32_t box, unsigned co
     held = std::uint8_t(ca | (corners << 4));
 }
 
-bool OcclusionBuffer3D::fusedDepth(int i, int j, const std::uint32_t* boxes, int n, double& depth) const {
+bool OcclusionBuffer3D::fusedDepth(int i, int j, const std::uint32_t* boxes, int n, double& depth) {
     // Only boxes near each other, each of the others within 1.5 voxels of the first (the walls of a room,
     // the parts of a wall, buildings side by side; measured: with touching boxes only, a room of unit-box
     // walls seen at 138 degrees let one object through its corner): boxes far apart cover a pixel's whole
@@ -215,9 +238,12 @@ bool OcclusionBuffer3D::fusedDepth(int i, int j, const std::uint32_t* boxes, int
     q.n = 4; // (element by element: a braced list would zero the other 44 entries of each array)
     q.x[0] = x0, q.x[1] = x1, q.x[2] = x1, q.x[3] = x0;
     q.y[0] = y0, q.y[1] = y0, q.y[2] = y1, q.y[3] = y1;
-    const ImageFootprint3D* polys[3] = {nullptr, nullptr, nullptr};
-    for (int k = 0; k < n; ++k) polys[k] = &m_seamBoxes[boxes[k] - 1].poly;
-    if (!covered(q, polys, n)) return false;
+    const SeamBox* parts[3] = {nullptr, nullptr, nullptr};
+    for (int k = 0; k < n; ++k) {
+        prepareLines(m_seamBoxes[boxes[k] - 1]);
+        parts[k] = &m_seamBoxes[boxes[k] - 1];
+    }
+    if (!covered(q, parts, n)) return false;
     // The largest entry distance of each box over its part of Q (at a vertex of Q n Pk).
     depth = 0;
     for (int k = 0; k < n; ++k) {
@@ -225,9 +251,7 @@ bool OcclusionBuffer3D::fusedDepth(int i, int j, const std::uint32_t* boxes, int
         Poly buf[2]; // ping-pong, as in covered()
         const Poly* part = &q;
         for (int e = 0, w = 0; e < b.poly.n && part->n > 0; ++e, w ^= 1) {
-            const int m = e + 1 == b.poly.n ? 0 : e + 1;
-            const double ax = b.poly.x[e], ay = b.poly.y[e], bx = b.poly.x[m], by = b.poly.y[m];
-            clip(*part, [&](double x, double y) { return edgeSide(ax, ay, bx, by, x, y); }, buf[w]);
+            clip(*part, [&](double x, double y) { return edgeSide(b, e, x, y); }, buf[w]);
             part = &buf[w];
         }
         for (int v = 0; v < part->n; ++v) {

@@ -70,11 +70,28 @@ struct ImageFootprint3D {
     struct Rect {
         int i0, i1, j0, j1; // inclusive pixel ranges; empty when i0 > i1
     };
+    static constexpr int kMaxVertices = 20;
     Rect rect{0, -1, 0, -1};
     int n = 0;
     double padX = 0, padY = 0;
-    double x[20], y[20];
+    double x[kMaxVertices], y[kMaxVertices];
     bool covered = false; // footprintOf with coveredBelow: the rectangle alone proved the test (n = 0)
+};
+
+/// A box drawn into the image this frame, kept for seam fusion (OcclusionSeams3D.cpp). (Internal to the
+/// buffer; public so its implementation files can share it.)
+struct ImageSeamBox3D {
+    Vec3 lo, hi;      // apex-relative, as drawn
+    double farthest;  // [voxel units] the farthest distance of the box: a bound on any entry distance
+    double nearest;   // [voxel units] its nearest distance: no entry distance is smaller
+    double area;      // of its image polygon (which boxes a pixel keeps)
+    ImageFootprint3D poly; // its image (exact hull of the clipped box, counter-clockwise, no padding)
+    bool linesReady;  // margin, ea, eb and ec computed (the first fusion test that needs them)
+    double margin;    // of the polygon tests (OcclusionSeams3D.cpp)
+    // Edge k of poly (vertex k to k + 1) as a line: ea x + eb y + ec is the signed distance of (x, y)
+    // from it, positive inside. Computed once per box: the tests evaluate it for every vertex of
+    // every clipped piece.
+    double ea[ImageFootprint3D::kMaxVertices], eb[ImageFootprint3D::kMaxVertices], ec[ImageFootprint3D::kMaxVertices];
 };
 
 /// Scratch of the per-pixel maximum of a dot product over a pixel's rays (PixelMaxDot in
@@ -215,16 +232,10 @@ private:
 
     // Seam fusion (OcclusionSeams3D.cpp): boxes drawn this frame with their image polygons, and per pixel
     // the first two boxes that covered only part of it.
-    struct SeamBox {
-        Vec3 lo, hi;      // apex-relative, as drawn
-        double farthest;  // [voxel units] the farthest distance of the box: a bound on any entry distance
-        double nearest;   // [voxel units] its nearest distance: no entry distance is smaller
-        double area;      // of its image polygon (which boxes a pixel keeps)
-        Footprint poly;   // its image (exact hull of the clipped box, counter-clockwise, no padding)
-    };
+    using SeamBox = ImageSeamBox3D;
     std::uint32_t addSeamBox(const Vec3& lo, const Vec3& hi);
     void notePartial(int i, int j, std::uint32_t box, unsigned corners);
-    bool fusedDepth(int i, int j, const std::uint32_t* boxes, int n, double& depth) const;
+    bool fusedDepth(int i, int j, const std::uint32_t* boxes, int n, double& depth);
     std::vector<SeamBox> m_seamBoxes;
     std::vector<std::uint32_t> m_partial; // per pixel: 16-bit box index + 1, twice (0: none)
     std::vector<std::uint8_t> m_partialCorners; // per pixel: the corner rays each of those boxes holds (4 bits each)
