@@ -111,9 +111,6 @@ bool covered(const Poly& q, const ImageSeamBox3D* const* boxes, int n) {
     return true;
 }
 
-} // namespace
-
-namespace {
 /// The box's margin and edge lines (edgeSide), computed the first time a fusion test needs them: most
 /// boxes of a cloud of small ones never meet a second box at a pixel whose corners they share.
 void prepareLines(ImageSeamBox3D& b) {
@@ -134,6 +131,7 @@ void prepareLines(ImageSeamBox3D& b) {
         }
     }
 }
+
 } // namespace
 
 std::uint32_t OcclusionBuffer3D::addSeamBox(const Vec3& lo, const Vec3& hi) {
