@@ -565,6 +565,67 @@ TEST_CASE("culler3d: updateObject and removeObject keep the PVS conservative", "
     REQUIRE(tally.misses == 0);
 }
 
+TEST_CASE("culler3d: the brick walk keeps ids per brick: voxelState matches the shells' I, a small mover writes nothing", "[culler3d]") {
+    // With hierarchical on (the default) objects are not written into I voxel by voxel: the brick lists
+    // are I at brick resolution (CullerImpl.hpp, idsInI). voxelState must still report I exactly (the
+    // shells' culler keeps it per voxel), O must be the same, and after moves and removals too.
+    for (std::uint64_t seed = 77001; seed < 77013; ++seed) {
+        INFO("seed " << seed);
+        ref::Scene3D s = ref::randomScene3D(seed);
+        std::mt19937_64 rng(seed * 7 + 3);
+        Culler3D bricks = makeCuller(s.grid, s.objects);
+        Culler3D shells = makeCuller(s.grid, s.objects, CullerOptions{.hierarchical = false});
+        std::vector<ObjectDesc<3>> objects = s.objects;
+        for (int round = 0; round < 3; ++round) {
+            INFO("round " << round);
+            const IVec3 res = s.grid.resolution();
+            std::size_t mismatches = 0, withIds = 0;
+            for (int z = 0; z < res.z; ++z)
+                for (int y = 0; y < res.y; ++y)
+                    for (int x = 0; x < res.x; ++x) {
+                        const VoxelState a = bricks.voxelState({x, y, z}), b = shells.voxelState({x, y, z});
+                        mismatches += a.hasIds != b.hasIds || a.opaque != b.opaque;
+                        withIds += b.hasIds;
+                    }
+            CHECK(mismatches == 0);
+            CHECK(withIds > 0);
+            for (std::size_t i = 0; i < objects.size(); ++i) // move some by up to 2 voxels
+                if (sd::chance(rng, 0.5)) {
+                    const double d = 2 * s.grid.voxelSize();
+                    objects[i].shape = translated<3>(objects[i].shape, Vec3{sd::uniform(rng, -d, d), sd::uniform(rng, -d, d), sd::uniform(rng, -d, d)});
+                    bricks.updateObject(objects[i].id, objects[i].shape);
+                    shells.updateObject(objects[i].id, objects[i].shape);
+                }
+            if (objects.size() > 1) {
+                bricks.removeObject(objects.back().id);
+                shells.removeObject(objects.back().id);
+                objects.pop_back();
+            }
+        }
+    }
+
+    // The work it saves, asserted on the counts: a sphere too small to hold an inner voxel (so no O),
+    // moving in plain view across voxel boundaries, writes nothing into the grid with the brick lists;
+    // the shells' culler rewrites its I footprint every frame. Both report it every frame.
+    GridGeometry3 grid({0, 0, 0}, 1.0, {32, 32, 32});
+    const Camera3 cam = makeCamera({2.5, 16.5, 16.5}, {1, 0, 0}, 60);
+    for (bool hierarchical : {true, false}) {
+        INFO("hierarchical " << hierarchical);
+        Culler3D culler(grid, CullerOptions{.hierarchical = hierarchical});
+        Ball<3> ball{{16.2, 16.2, 16.2}, 0.4};
+        culler.addObject({1, ball, false, 1.0});
+        std::uint64_t writes = 0;
+        for (int frame = 0; frame < 8; ++frame) {
+            ball.center += Vec3{0.0, 0.45, 0.3};
+            const CullResult& r = culler.cull(cam, [&](ObjectId) { return Shape<3>(ball); });
+            CHECK(contains(r.pvs, ObjectId(1)));
+            writes += r.stats.gridWrites;
+        }
+        if (hierarchical) CHECK(writes == 0);
+        else CHECK(writes > 0);
+    }
+}
+
 TEST_CASE("culler3d: without occlusion the PVS is a superset, and holds the whole view-region set", "[culler3d]") {
     std::size_t frames = 0, extra = 0, layerExtra = 0;
     for (std::uint64_t seed = 600001; seed < 600201; ++seed) {

@@ -232,7 +232,8 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
             // brick instead of once per voxel in view; the stamp checked here, as for the ids.
             const std::vector<ObjectSlot>& list = brickObjects.at(brick);
 #ifndef NDEBUG
-            // The lists' invariant: every id in a voxel of the brick is listed in it.
+            // The lists' invariant: every id in a voxel of the brick is listed in it (where I is kept).
+            if (idsInI) {
             const IVec3 o = brick * BrickPyramid<3>::kBrickSize, hi = glm::min(o + BrickPyramid<3>::kBrickSize, grid.resolution());
             for (std::int32_t z = o.z; z < hi.z; ++z)
                 for (std::int32_t y = o.y; y < hi.y; ++y)
@@ -241,6 +242,7 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
                             assert(std::find(list.begin(), list.end(), s) != list.end());
                             (void)s;
                         });
+            }
 #endif
             for (std::size_t i = 0; i < list.size(); ++i)
                 if (vs.classifiedStamp[list[i]] != vs.stamp) classify(vs, list[i], view);
@@ -284,8 +286,10 @@ void Culler<D>::Impl::finishWalk(ViewScratch<S>& vs, const typename Traits::View
 }
 
 template <int D> bool Culler<D>::Impl::boxObjectHolds(VoxelKey seed, const IVec<D>& lo, const IVec<D>& hi) const {
+    // A box object holding the voxels lo..hi holds the seed (one of them) and lo: its id is in the seed's
+    // set, and it is listed in lo's brick (without I, forEachObjectAt reads that list).
     bool inside = false;
-    storage.forEachId(seed, [&](ObjectSlot slot) {
+    forEachObjectAt(seed, lo, [&](ObjectSlot slot) {
         const Record& r = records[slot];
         const auto* b = std::get_if<Box<D>>(&r.at.local);
         if (inside || b == nullptr || (r.state != State::Tracked && r.state != State::Static)) return;

@@ -296,7 +296,21 @@ template <int D> VoxelState Culler<D>::voxelState(const IVec<D>& v) const {
         s.occluded = m.main.imageView.touchesBox(lo, hi) && m.main.traversalImage.hidden(Box<D>{lo, hi}, m.main.imageView.slack());
     }
     s.occluder = m.frame != 0 && m.storage.used(key, m.frame);
-    s.hasIds = m.storage.hasIds(key);
+    if (m.idsInI) {
+        s.hasIds = m.storage.hasIds(key);
+    } else if constexpr (D == 3) {
+        // No per-voxel ids (CullerImpl.hpp, idsInI): the objects listed in the voxel's brick whose touched
+        // voxels (the footprint I would hold) include it. For pictures and tests: one rasterization each.
+        RowFootprint f;
+        for (ObjectSlot slot : m.brickObjects.at(v >> BrickPyramid<D>::kBrickShift)) {
+            const typename Impl::Record& r = m.records[slot];
+            f.build<D>(r.at.local, nullptr, m.grid, m.grid.conversionSlack(r.at.worldMagnitude));
+            if (f.touches(key, m.grid.resolution().x)) {
+                s.hasIds = true;
+                break;
+            }
+        }
+    }
     s.hasTbv = m.tbvs.holdsAt(v);
     return s;
 }

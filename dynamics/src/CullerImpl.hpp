@@ -201,12 +201,19 @@ template <int D> struct Culler<D>::Impl {
     // otherwise. A move rasterizes only its new placement; a removal takes out exactly what was put in.
     std::vector<RowFootprint> footprints;
     RowFootprint nextFootprint; // reused by every move (no allocation per update after warm-up)
-    // 3D: the objects in I per brick, which the brick walk meets instead of the voxels' ids.
+    // 3D: the objects in I and O per brick, which the brick walk meets instead of the voxels' ids.
     BrickObjects<D> brickObjects;
+    // Whether objects are written into I voxel by voxel. 3D with CullerOptions::hierarchical: no. Every
+    // reader of ids there meets objects through brickObjects (the walk, the fused boxes' check, the
+    // orthographic pass, voxelState), which is I at brick resolution: a superset of the objects whose
+    // voxels lie in a brick, each then judged by its own shape. Keeping the per-voxel sets as well cost a
+    // moving object its touched rows' rasterization and their difference every frame, for no reader
+    // (README, "Scene classes"). The paper's traversals (hierarchical = false) and 2D read I per voxel.
+    const bool idsInI;
 
     Impl(const GridGeometry<D>& g, const CullerOptions& o)
         : grid(g), options(o), storage(g), tbvs(g.resolution()), expiring(std::size_t(o.tbvMaxFrames) + 2),
-          brickObjects(g.resolution()) {
+          brickObjects(g.resolution()), idsInI(D == 2 || !o.hierarchical) {
         if (options.tbvMaxGrowth == 0) options.tbvMaxGrowth = D == 2 ? 32.0 : 8.0;
         main.storage = &storage;
     }
@@ -216,6 +223,17 @@ template <int D> struct Culler<D>::Impl {
     Placement makePlacement(const Shape<D>& world, double inset, ObjectRole role) const;
     void rasterize(ObjectSlot slot, int sign);
     void buildFootprint(const Placement& p, RowFootprint& f) const;
+    void markListed(const BrickBox<D>& box);
+    /// The objects that may hold voxel `v` (key `key`) in I: its id set where ids are kept per voxel
+    /// (idsInI), else its brick's list (a superset: callers judge each object by its shape).
+    template <class Fn> void forEachObjectAt(VoxelKey key, const IVec<D>& v, Fn&& fn) const {
+        if (idsInI) {
+            storage.forEachId(key, fn);
+        } else {
+            if constexpr (D == 3)
+                for (ObjectSlot slot : brickObjects.at(v >> BrickPyramid<D>::kBrickShift)) fn(slot);
+        }
+    }
     void moveRasterized(ObjectSlot slot, const Placement& p);
     void syncOutside(ObjectSlot slot);
     SlotSet* setOf(State s);

@@ -40,6 +40,7 @@ template <int D> void Culler<D>::Impl::rasterize(ObjectSlot slot, int sign) {
         if constexpr (D == 3) {
             r.listedIn = brickObjects.boxOf(r.at.localBounds, grid.conversionSlack(r.at.worldMagnitude));
             brickObjects.add(slot, r.listedIn);
+            if (!idsInI) markListed(r.listedIn);
         }
     } else {
         writes += f.write(storage, slot, -1);
@@ -53,7 +54,16 @@ template <int D> void Culler<D>::Impl::rasterize(ObjectSlot slot, int sign) {
 
 template <int D> void Culler<D>::Impl::buildFootprint(const Placement& p, RowFootprint& f) const {
     // The slack covers the world-to-voxel rounding of the object's coordinates (and the grid's).
-    f.build<D>(p.local, p.occluder(), grid, grid.conversionSlack(p.worldMagnitude));
+    f.build<D>(p.local, p.occluder(), grid, grid.conversionSlack(p.worldMagnitude), idsInI);
+}
+
+/// Without ids in I (idsInI), the brick tree learns of an object from its list's box: every brick of it
+/// is marked occupied (marking is eager, BrickPyramid.hpp), as writing its ids marked their bricks. The
+/// walk clears a brick only when its list is empty, so a listed brick stays occupied.
+template <int D> void Culler<D>::Impl::markListed(const BrickBox<D>& box) {
+    if (box.empty()) return;
+    constexpr int s = BrickPyramid<D>::kBrickShift;
+    storage.bricks().markOccupied(box.lo << s, box.hi << s);
 }
 
 /// Moves a rasterized object by writing only the difference between its old (cached) and new
@@ -70,6 +80,7 @@ template <int D> void Culler<D>::Impl::moveRasterized(ObjectSlot slot, const Pla
         if (!(box == r.listedIn)) {
             brickObjects.remove(slot, r.listedIn);
             brickObjects.add(slot, box);
+            if (!idsInI) markListed(box);
             r.listedIn = box;
         }
     }
@@ -189,6 +200,7 @@ template auto Culler<2>::Impl::fetch(ObjectSlot, CullStats&) -> const Placement*
 template auto Culler<3>::Impl::makePlacement(const Shape<3>&, double, ObjectRole) const -> Placement;
 template void Culler<3>::Impl::rasterize(ObjectSlot, int);
 template void Culler<3>::Impl::buildFootprint(const Placement&, RowFootprint&) const;
+template void Culler<3>::Impl::markListed(const BrickBox<3>&);
 template void Culler<3>::Impl::moveRasterized(ObjectSlot, const Placement&);
 template void Culler<3>::Impl::syncOutside(ObjectSlot);
 template SlotSet* Culler<3>::Impl::setOf(State);

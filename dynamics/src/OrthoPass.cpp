@@ -17,7 +17,7 @@
 //      touches holds a depth nearer than the node's nearest depth). A visible point p of an object lies
 //      in a node that touches the view box and that the image cannot hide (the image only holds true
 //      facts, and p's backward segment is unblocked), so the brick holding p is visited, and the object
-//      (its I voxels include p's voxel) is met.
+//      (its I voxels include p's voxel; without I, the brick's list holds it) is met.
 //   3. Occluders (§4.3-4.4 for parallel rays): each visited brick's opaque voxels (O: inside some
 //      object's occluder model) are drawn as runs along x, boxes of up to 8 voxels; the occluder models of
 //      the objects met are drawn too (sub-voxel exact, and the parts outside the grid), from 2 pixels of
@@ -75,7 +75,7 @@ void Culler<D>::Impl::orthoOcclusionView(ViewScratch<S>& vs, const OrthoVolume<D
     // large enough) repeats that box: not drawn again (inside buildings and walls, most runs are such).
     auto drawnBoxHolds = [&](VoxelKey seed, const IVec3& lo, const IVec3& hi) {
         bool inside = false;
-        storage.forEachId(seed, [&](ObjectSlot slot) {
+        forEachObjectAt(seed, lo, [&](ObjectSlot slot) { // (seed is lo here: the run's first voxel)
             const Record& r = records[slot];
             const auto* b = std::get_if<Box<3>>(&r.at.local);
             if (inside || b == nullptr || !r.at.occludes || r.at.inset || (r.state != State::Tracked && r.state != State::Static)) return;
@@ -103,8 +103,12 @@ void Culler<D>::Impl::orthoOcclusionView(ViewScratch<S>& vs, const OrthoVolume<D
             }
             return false;
         },
-        [&](const IVec3&, const IVec3& lo, const IVec3& hi) {
+        [&](const IVec3& brick, const IVec3& lo, const IVec3& hi) {
             ++bricks;
+            // Without ids in I, the brick's list (a superset of the objects with voxels in it) is met at
+            // once; 4. judges each by its shape.
+            if (!idsInI)
+                for (ObjectSlot slot : brickObjects.at(brick)) meet(slot);
             for (std::int32_t z = lo.z; z < hi.z; ++z)
                 for (std::int32_t y = lo.y; y < hi.y; ++y) {
                     const VoxelKey row = grid.linearIndex(IVec3{0, y, z});
@@ -113,7 +117,7 @@ void Culler<D>::Impl::orthoOcclusionView(ViewScratch<S>& vs, const OrthoVolume<D
                         const bool opaque = x < hi.x && storage.opaque(row + VoxelKey(x));
                         if (x < hi.x) {
                             ++voxels;
-                            storage.forEachId(row + VoxelKey(x), [&](ObjectSlot slot) { meet(slot); });
+                            if (idsInI) storage.forEachId(row + VoxelKey(x), [&](ObjectSlot slot) { meet(slot); });
                         }
                         if (opaque && runStart < 0) runStart = x;
                         if (!opaque && runStart >= 0) {

@@ -294,10 +294,12 @@ private:
         // A box inside one box object (a wall, a building) repeats that object, which is drawn when the
         // brick's ids are classified (or is hidden, and then so is this box): the room's six walls and
         // the game world's buildings were drawn twice.
-        if (insideObject(grid.linearIndex(v), lo, hi)) return;
+        // The size first: most boxes are too small to draw (the insides of small movers), and the
+        // object check reads the objects of the seed (without I in the culler, its brick's whole list).
         const Box<3> box{Vec3(lo), Vec3(hi + 1)};
         const Vec3 half = 0.5 * Vec3(hi + 1 - lo);
         if (!image.spans(std::sqrt(lengthSquared<3>(half)), image.nearestDistance(box, 0), kMinOccluderPixels)) return;
+        if (insideObject(grid.linearIndex(v), lo, hi)) return;
         image.draw(box, frustum.slack());
         ++st.fusedBoxes;
     }

@@ -45,12 +45,15 @@ public:
     /// Rasterizes a shape given in voxel units (see forEachTouchedRow / forEachInnerRow): I from `local`,
     /// O from `inner` (the occluder model, contained in `local`; null: no O). Reuses the capacity it
     /// has: no allocation once it has held a footprint as large.
-    template <int D> void build(const Shape<D>& local, const Shape<D>* inner, const GridGeometry<D>& grid, double slack) {
+    /// @param touched  false: no I part (O only), for a culler that keeps its ids per brick instead
+    ///                 (BrickObjects.hpp: the 3D brick walk); write and moveTo then touch O alone.
+    template <int D>
+    void build(const Shape<D>& local, const Shape<D>* inner, const GridGeometry<D>& grid, double slack, bool touched = true) {
         m_spans.clear();
         auto push = [&](const IVec<D>& row, std::int32_t x0, std::int32_t x1) {
             m_spans.push_back({grid.linearIndex(row), x0, x1});
         };
-        forEachTouchedRow<D>(local, grid.resolution(), push, slack);
+        if (touched) forEachTouchedRow<D>(local, grid.resolution(), push, slack);
         m_touched = std::uint32_t(m_spans.size());
         if (inner != nullptr) forEachInnerRow<D>(*inner, grid.resolution(), push, slack);
     }
@@ -102,6 +105,14 @@ public:
     }
 
     bool empty() const { return m_spans.empty(); }
+    /// Whether the I part holds voxel `key` (one span per row, in row order: a binary search by row).
+    bool touches(VoxelKey key, std::int32_t resX) const {
+        const VoxelKey row = key - key % VoxelKey(resX);
+        const auto end = m_spans.begin() + m_touched;
+        const auto it = std::lower_bound(m_spans.begin(), end, row, [](const RowSpan& s, VoxelKey r) { return s.row < r; });
+        const std::int32_t x = std::int32_t(key - row);
+        return it != end && it->row == row && it->x0 <= x && x <= it->x1;
+    }
     std::size_t touchedRows() const { return m_touched; }
     std::size_t innerRows() const { return m_spans.size() - m_touched; }
 
