@@ -626,6 +626,42 @@ TEST_CASE("culler3d: the brick walk keeps ids per brick: voxelState matches the 
     }
 }
 
+TEST_CASE("culler3d: lazyStorage changes memory, never a verdict", "[culler3d]") {
+    // Pages are taken where written instead of at construction (CullerOptions::lazyStorage): the same
+    // PVS and statistics as the default, frame by frame, with objects moving into space never written,
+    // for both cores; the lazy brick culler is checked against the reference too.
+    Tally tally(kCheck);
+    for (bool hierarchical : {true, false})
+        for (std::uint64_t seed = 88001; seed < 88011; ++seed) {
+            INFO("seed " << seed << ", hierarchical " << hierarchical);
+            ref::Scene3D s = ref::randomScene3D(seed);
+            std::mt19937_64 rng(seed * 13 + 5);
+            Culler3D eager = makeCuller(s.grid, s.objects, CullerOptions{.hierarchical = hierarchical});
+            Culler3D lazy = makeCuller(s.grid, s.objects, CullerOptions{.hierarchical = hierarchical, .lazyStorage = true});
+            std::vector<ObjectDesc<3>> objects = s.objects;
+            for (int frame = 0; frame < 4; ++frame) {
+                const Camera3 cam = frame == 0 ? s.camera : ref::randomCamera3D(rng, s.grid, objects, s.snapped);
+                const CullResult a = eager.cull(cam);
+                // checkFrame culls the lazy culler (once, as the eager one) and checks it; the shells' is culled here.
+                if (hierarchical) checkFrame(lazy, objects, cam, frameLabel("lazyStorage", seed, frame), tally);
+                else lazy.cull(cam);
+                const CullResult& b = lazy.lastResult();
+                CHECK(a.pvs == b.pvs);
+                CHECK(a.stats.voxelsVisited == b.stats.voxelsVisited);
+                CHECK(a.stats.hiddenObjects == b.stats.hiddenObjects);
+                for (ObjectDesc<3>& o : objects) {
+                    const double d = 3 * s.grid.voxelSize();
+                    o.shape = translated<3>(o.shape, Vec3{sd::uniform(rng, -d, d), sd::uniform(rng, -d, d), sd::uniform(rng, -d, d)});
+                    eager.updateObject(o.id, o.shape);
+                    lazy.updateObject(o.id, o.shape);
+                }
+            }
+        }
+    tally.print("lazyStorage");
+    REQUIRE(tally.frames == 40);
+    REQUIRE(tally.misses == 0);
+}
+
 TEST_CASE("culler3d: without occlusion the PVS is a superset, and holds the whole view-region set", "[culler3d]") {
     std::size_t frames = 0, extra = 0, layerExtra = 0;
     for (std::uint64_t seed = 600001; seed < 600201; ++seed) {

@@ -9,6 +9,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <utility>
 
 using namespace rgvc;
 
@@ -185,3 +186,82 @@ TEST_CASE("storage: brick-row words of O, V and U agree with the voxels, and the
         }
     }
 }
+
+TEST_CASE("storage: ZeroedArray starts zero, copies, moves, clears and touches", "[storage]") {
+    ZeroedArray<std::uint32_t> a(1000);
+    REQUIRE(a.size() == 1000);
+    for (std::uint32_t v : a) CHECK(v == 0);
+    for (std::size_t i = 0; i < a.size(); ++i) a[i] = std::uint32_t(i * 7 + 1);
+    ZeroedArray<std::uint32_t> b = a; // copy
+    REQUIRE(b.size() == 1000);
+    CHECK(b[999] == 999 * 7 + 1);
+    b[0] = 42;
+    CHECK(a[0] == 1); // a deep copy
+    ZeroedArray<std::uint32_t> c = std::move(b);
+    CHECK(c[0] == 42);
+    CHECK(b.size() == 0); // NOLINT(bugprone-use-after-move): moved-from is empty by contract
+    a.clear();
+    REQUIRE(a.size() == 1000);
+    for (std::uint32_t v : a) CHECK(v == 0);
+    c.touch(); // zeros again, written
+    for (std::uint32_t v : c) CHECK(v == 0);
+    c.adviseHugePages(); // a hint: contents unchanged
+    c[3] = 9;
+    c.clear();
+    CHECK(c[3] == 0);
+    ZeroedArray<std::uint8_t> empty(0);
+    CHECK(empty.size() == 0);
+    CHECK(empty.begin() == empty.end());
+}
+
+TEST_CASE("storage: a fresh dense storage reads empty everywhere, whatever it was told about its pages", "[storage]") {
+    // The cells hold the I head XOR'ed so that all-zero memory reads as no id, not opaque, never
+    // occluded, not visited, not used: the encoding the untouched pages rely on.
+    const GridGeometry3 grid({0, 0, 0}, 1.0, {24, 16, 40});
+    for (int mode = 0; mode < 3; ++mode) {
+        INFO("mode " << mode);
+        DenseStorage<3> s(grid);
+        if (mode == 1) s.adviseWholeGridReads();
+        if (mode == 2) s.touchWalkedArrays(true);
+        std::size_t bad = 0;
+        for (VoxelKey k = 0; k < VoxelKey(grid.voxelCount()); ++k)
+            bad += s.hasIds(k) || s.opaque(k) || s.occluded(k, 1) || s.visited(k, 1) || s.used(k, 1);
+        CHECK(bad == 0);
+        s.addId(5, 3);
+        s.addOpaque(5, +1);
+        CHECK(s.hasIds(5));
+        CHECK(s.opaque(5));
+        s.addOpaque(5, -1);
+        s.removeId(5, 3);
+        CHECK_FALSE(s.hasIds(5));
+        CHECK_FALSE(s.opaque(5));
+    }
+}
+
+#if defined(__linux__) && !defined(__SANITIZE_ADDRESS__)
+#include <fstream>
+namespace {
+/// Resident memory of this process [bytes] (Linux: /proc/self/statm's second field, in pages).
+std::size_t residentBytes() {
+    std::ifstream f("/proc/self/statm");
+    std::size_t size = 0, resident = 0;
+    f >> size >> resident;
+    return resident * 4096;
+}
+} // namespace
+
+TEST_CASE("storage: a large grid costs memory where it is written, not its volume", "[storage]") {
+    // 512 x 256 x 512 voxels: 870 MB as dense arrays written at construction. The brick walks' storage
+    // writes O's flags, V and U (7 bits a voxel, 59 MB) and leaves the cells and O's counts to the pages
+    // objects write. (Not under AddressSanitizer, whose shadow memory is resident memory too.)
+    const GridGeometry3 grid({0, 0, 0}, 1.0, {512, 256, 512});
+    const std::size_t before = residentBytes();
+    DenseStorage<3> s(grid);
+    s.touchWalkedArrays(false);
+    for (VoxelKey k = 0; k < 4096; ++k) s.addOpaque(k * 997, +1); // a few scattered objects' voxels
+    const std::size_t grown = residentBytes() - std::min(before, residentBytes());
+    INFO("resident growth " << grown / 1000000 << " MB");
+    CHECK(grown < 200u * 1000 * 1000);
+    CHECK(grown > 50u * 1000 * 1000); // the walked arrays are written
+}
+#endif

@@ -215,6 +215,12 @@ template <int D> struct Culler<D>::Impl {
         : grid(g), options(o), storage(g), tbvs(g.resolution()), expiring(std::size_t(o.tbvMaxFrames) + 2),
           brickObjects(g.resolution()), idsInI(D == 2 || !o.hierarchical) {
         if (options.tbvMaxGrowth == 0) options.tbvMaxGrowth = D == 2 ? 32.0 : 8.0;
+        // The storage's per-voxel arrays start as untouched zero pages (ZeroedArray.hpp). By default every
+        // page is written now, so that none is first touched during a frame; CullerOptions::lazyStorage
+        // leaves untouched what the walks do not reach in every brick (memory follows the content).
+        if (!options.hierarchical) storage.adviseWholeGridReads();
+        if (!options.lazyStorage) storage.touchAll();
+        else if (options.hierarchical) storage.touchWalkedArrays(D == 2);
         main.storage = &storage;
     }
 
