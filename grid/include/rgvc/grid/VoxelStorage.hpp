@@ -12,7 +12,8 @@
 //                  in O(1); stamps run up to S::kMaxStamp, and the user of the storage then calls
 //                  resetStamps() (one full clear) and starts again at 1.
 //   I  ids         per voxel, its only object slot stored in the cell, or a chain of 3-slot buckets drawn
-//                  from one pool with a free list. After warm-up no insertion allocates.
+//                  from one pool with a free list. After warm-up no insertion allocates. (The 3D brick
+//                  core keeps I at brick resolution instead, BrickObjects.hpp, and writes none here.)
 //   U  used        the voxels already part of an extended occluder this frame, so a wall of n opaque
 //                  voxels is extended once, not n times; stamped brick-row words, as V.
 //   T  TBVs        not here: T is read only at visited voxels and written only when TBVs change; it is
@@ -366,7 +367,10 @@ public:
 
     /// Called when the frame stamp passes kMaxStamp: every stamp back to "never".
     void resetStamps() {
-        for (Cell& c : m_cells) c.occluded = 0; // (the cells also hold I and O's flag: written, not replaced)
+        // (The cells also hold I and O's flag: written, not replaced; only stamps set, so that the pages a
+        // lazy storage never wrote stay untouched.)
+        for (Cell& c : m_cells)
+            if (c.occluded != 0) c.occluded = 0;
         m_visited.reset();
         m_used.reset();
     }

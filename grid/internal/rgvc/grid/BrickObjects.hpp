@@ -1,5 +1,7 @@
-// Per-brick lists of the objects held in I: the brick walk (BrickTraversal3D.hpp, onBrickIds) meets an
-// object once per brick it reads instead of once per voxel of it.
+// Per-brick lists of the objects held in O and I: the brick walk (BrickTraversal3D.hpp, onBrickIds) meets
+// an object once per brick it reads instead of once per voxel of it. In the culler's brick core they are
+// I itself, at brick resolution: objects are not written into I voxel by voxel there (CullerImpl.hpp,
+// idsInI), and every reader of ids reads these lists.
 //
 // Why. The walk read every visited brick's 512 cells for their ids, and then the ids of every voxel in
 // view (an object 5 voxels across holds a hundred voxels): the same reads view-frustum culling makes,
@@ -15,8 +17,8 @@
 // superset of the bricks its I footprint reaches (every voxel forEachTouchedVoxel gives lies in it), so
 // an object with a voxel in a visited brick is in that brick's list; the walk classifies it by its own
 // shape, so an object listed where none of its voxels is in view costs a classify() and no verdict.
-// Exactly the objects with a footprint in I are listed (the culler adds and removes them with their
-// footprints), so a listed object is Tracked or Static, as an id in I is.
+// Exactly the rasterized objects are listed (the culler adds and removes them with their footprints in O
+// and, where it keeps one, I), so a listed object is Tracked or Static, as an id in I is.
 #pragma once
 
 #include "rgvc/grid/BrickPyramid.hpp"
