@@ -372,12 +372,12 @@ struct CullerOptions {
     /// through walls and floors (side views of a building's storeys, a level seen from below).
     bool orthographicOcclusion = false;
     /// Memory of the grid's per-voxel arrays (about 13 bytes a voxel) taken where it is written, not at
-    /// construction (true), or all of it at construction (false, the default). With true a 512^3 culler
-    /// is made in milliseconds and holds about 1 byte a voxel (the brick walks' O flags, V and U) plus the
-    /// pages objects have written, instead of 1.7 GiB after 8 s; but each 4 KiB page an object first
+    /// construction (true), or all of it at construction (false, the default). With true an empty 512^3
+    /// culler is made in 0.4 s and holds about 1 byte a voxel (the brick walks' O flags, V and U) plus the
+    /// pages objects have written, instead of 1.7 GiB after 6.7 s; but each 4 KiB page an object first
     /// writes costs a page fault during that frame (a moving object entering space no object has been in):
     /// on rgvc_bench_classes' large world, half of whose objects fly through it, the first 35 frames took
-    /// 2-3x as long (README, "Scene classes"). For large worlds whose objects stay in a part of them (a map
+    /// 2.2x as long (README, "Large worlds"). For large worlds whose objects stay in a part of them (a map
     /// with its own terrain, a level whose movers keep to its rooms), or to cap memory.
     bool lazyStorage = false;
 };

@@ -239,8 +239,8 @@ public:
 
     /// For users that read and write per-voxel state of any brick they walk (the brick walks): the arrays
     /// a walk reaches in every brick it reads, written now, so that a camera moving into space not seen
-    /// before pays no page's first touch during a frame (a flying camera over rgvc_bench_classes' large
-    /// world: 1.9 ms a frame against 1.1). O's flags, V and U are 7 bits a voxel; `cells` adds the cells
+    /// before pays no page's first touch during a frame (the walk reads and writes them in every brick it
+    /// visits, occupied or not by anything written before). O's flags, V and U are 7 bits a voxel; `cells` adds the cells
     /// (8 bytes a voxel), which the 2D walk reads for ids. What only objects write (O's counts, and the
     /// cells in 3D) stays untouched where no object ever was.
     void touchWalkedArrays(bool cells) {

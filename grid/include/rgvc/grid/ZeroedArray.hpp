@@ -2,7 +2,7 @@
 // only where it is written.
 //
 // Why not std::vector. A vector value-initializes every element on construction, which writes every page:
-// a 512^3 grid's dense matrices (about 13 bytes a voxel, 1.7 GiB) took 8 s to construct and held all of
+// a 512^3 grid's dense matrices (about 13 bytes a voxel, 1.7 GiB) took 7-10 s to construct and held all of
 // that memory before the first object was added, for a world that is mostly empty (issue 10's "large,
 // mostly empty world"). calloc of a large block instead maps fresh pages that the system guarantees to be
 // zero and provides on first touch (glibc takes such blocks from mmap and skips clearing them), so a
@@ -75,7 +75,7 @@ public:
     /// read of a part never written maps the 2 MiB zero page instead of 512 small ones, while each first
     /// write then takes 2 MiB. The paper's per-voxel traversals read every voxel of the view: over an
     /// empty 512^3 grid with small pages they missed the TLB at every row (a row of cells is 4 KiB) and
-    /// took 26 s a frame instead of 0.7 s. The brick walks read only the bricks that hold something, which
+    /// took 26 s a frame instead of 0.8 s. The brick walks read only the bricks that hold something, which
     /// are written, and keep small pages: memory that follows the content.
     void adviseHugePages() {
 #ifdef __linux__
@@ -96,12 +96,16 @@ public:
         m_touched = true;
     }
 
-    /// Every byte back to 0 by taking fresh zero pages (the old ones are returned to the system): O(1)
-    /// work, and the memory of what was written is given back, where a fill would write every page.
+    /// Every byte back to 0. An array written whole (touch) is filled in place; any other takes fresh zero
+    /// pages (the old ones go back to the system): O(1) work, and the memory of what was written is given
+    /// back, where a fill would write every page.
     void clear() {
+        if (m_touched) {
+            touch();
+            return;
+        }
         ZeroedArray fresh(m_size);
         if (m_huge) fresh.adviseHugePages();
-        if (m_touched) fresh.touch();
         std::swap(m_data, fresh.m_data);
     }
 
