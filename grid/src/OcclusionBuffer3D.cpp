@@ -137,8 +137,9 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& c, double rad
     return pixelsOf(x0, x1, y0, y1);
 }
 
-OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec3& hi) const {
+OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec3& hi, bool* smallImage) const {
     // A box entirely in front of the camera: its image is the convex hull of its corners' images.
+    if (smallImage != nullptr) *smallImage = false;
     double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf;
     for (int k = 0; k < 8; ++k) {
         const Vec3 q{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
@@ -151,6 +152,12 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec
         y1 = std::max(y1, y);
     }
     const double padX = 1e-8 * (std::abs(x0) + std::abs(x1) + 1.0), padY = 1e-8 * (std::abs(y0) + std::abs(y1) + 1.0);
+    // addSeamBox keeps a box whose image polygon has at least kMinSeamPixels pixels of area. The polygon
+    // (the hull of the images of the box's points with z >= zMin, all in front here: a segment in front
+    // projects to a segment) lies in the padded rectangle of the corners' images, so a rectangle of less
+    // area proves it smaller without computing it: the same boxes are kept, and a cloud of small boxes
+    // no longer pays a footprint per draw (a tenth of the clusters' refinement pass in callgrind).
+    if (smallImage != nullptr) *smallImage = (x1 - x0 + 2 * padX) * (y1 - y0 + 2 * padY) < kMinSeamPixels * m_pixelW * m_pixelH;
     return pixelsOf(x0 - padX, x1 + padX, y0 - padY, y1 + padY);
 }
 
@@ -278,8 +285,9 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
     };
     // The pixels this box covers only in part may be covered by its union with another box drawn this
     // frame (a wall meeting another at a corner, seen at an angle): OcclusionSeams3D.cpp.
-    const PixelRect rect = rectOf(lo, hi);
-    const std::uint32_t seam = addSeamBox(lo, hi);
+    bool smallImage = false;
+    const PixelRect rect = rectOf(lo, hi, &smallImage);
+    const std::uint32_t seam = smallImage ? 0 : addSeamBox(lo, hi);
     // Every entry written is at least the box's nearest distance (drawRect's row skip).
     const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), lo, hi))) * (1 - 1e-6);
     auto onPartial = [&](int i, int j, unsigned corners) { notePartial(i, j, seam, corners); };

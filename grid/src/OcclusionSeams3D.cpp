@@ -148,9 +148,10 @@ std::uint32_t OcclusionBuffer3D::addSeamBox(const Vec3& lo, const Vec3& hi) {
         const int m = k + 1 == b.poly.n ? 0 : k + 1;
         b.area += 0.5 * (b.poly.x[k] * b.poly.y[m] - b.poly.x[m] * b.poly.y[k]);
     }
-    // Boxes whose image spans less than 4 pixels are left out: their seams hide next to nothing, and a
-    // cloud of small boxes would run the polygon test at every shared pixel.
-    if (b.area < 4 * m_pixelW * m_pixelH) return 0;
+    // Boxes whose image spans less than kMinSeamPixels pixels are left out: their seams hide next to
+    // nothing, and a cloud of small boxes would run the polygon test at every shared pixel. (draw() skips
+    // the call for those whose corners' rectangle is already smaller: rectOf's smallImage.)
+    if (b.area < kMinSeamPixels * m_pixelW * m_pixelH) return 0;
     m_seamBoxes.push_back(b);
     return std::uint32_t(m_seamBoxes.size()); // index + 1
 }

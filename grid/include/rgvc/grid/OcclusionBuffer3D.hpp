@@ -188,7 +188,11 @@ private:
     PixelRect pixelsOf(double x0, double x1, double y0, double y1) const;
     /// Outer rectangle of the image of a sphere / box (relative to the apex).
     PixelRect rectOf(const Vec3& c, double radius) const;
-    PixelRect rectOf(const Vec3& lo, const Vec3& hi) const;
+    /// smallImage (optional): set when the box lies in front of the camera and its image (the hull of its
+    /// corners' images) spans less than kMinSeamPixels pixels, so addSeamBox would keep nothing of it.
+    PixelRect rectOf(const Vec3& lo, const Vec3& hi, bool* smallImage = nullptr) const;
+    /// Boxes whose image spans fewer pixels are not kept for seam fusion (addSeamBox).
+    static constexpr double kMinSeamPixels = 4;
     using Footprint = ImageFootprint3D;
     /// The footprint of the box (apex-relative) clipped to z >= zMin (z along forward). False when no
     /// point of the box has z >= zMin (none is in view).
