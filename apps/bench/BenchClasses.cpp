@@ -612,6 +612,9 @@ struct Row {
     double medianMs = 0, p90Ms = 0, voxels = 0, nodes = 0, empty = 0, hidden = 0, bricks = 0, pvs = 0;
     double ratio = -1; // -1: no frame counted
     std::uint64_t misses = 0;
+    // Where the time goes (the second table): medians of CullStats' parts, means of the update's counts.
+    double updateMs = 0, bufferMs = 0, walkMs = 0;
+    double queries = 0, tracked = 0, hiddenObjects = 0, created = 0, renewed = 0, revealed = 0;
 };
 
 std::vector<Row> g_rows;
@@ -673,8 +676,9 @@ template <int D> void runScene(World<D>& w, const Config& cfg) {
     const double buildMs = msSince(tBuild);
     const PlacementQuery<D> placementOf = [&w](ObjectId id) { return w.objects[std::size_t(id)].shape; };
 
-    std::vector<std::vector<double>> ms(nv);
+    std::vector<std::vector<double>> ms(nv), updateMs(nv), bufferMs(nv), walkMs(nv);
     std::vector<double> voxels(nv), nodes(nv), empty(nv), hidden(nv), bricks(nv), pvs(nv), ratio(nv);
+    std::vector<double> queries(nv), tracked(nv), hiddenObjects(nv), created(nv), renewed(nv), revealed(nv);
     std::vector<std::uint64_t> misses(nv);
     int refEvery = cfg.refEvery > 0 ? cfg.refEvery : 1, checked = 0, counted = 0;
     double refMs = 0, visibleSum = 0, firstRefMs = 0;
@@ -705,6 +709,15 @@ template <int D> void runScene(World<D>& w, const Config& cfg) {
             if (m < 0) continue;
             const CullStats& s = r.stats;
             ms[k].push_back(s.cullMs);
+            updateMs[k].push_back(s.updateMs);
+            bufferMs[k].push_back(s.bufferMs);
+            walkMs[k].push_back(std::max(0.0, s.cullMs - s.updateMs - s.bufferMs));
+            queries[k] += double(s.placementQueries);
+            tracked[k] += double(s.trackedObjects);
+            hiddenObjects[k] += double(s.hiddenObjects);
+            created[k] += double(s.tbvsCreated);
+            renewed[k] += double(s.tbvsRenewed);
+            revealed[k] += double(s.tbvsRevealed);
             voxels[k] += double(s.voxelsVisited);
             nodes[k] += double(s.nodesVisited);
             empty[k] += double(s.nodesEmpty);
@@ -747,6 +760,15 @@ template <int D> void runScene(World<D>& w, const Config& cfg) {
         row.pvs = pvs[k] / n;
         row.ratio = counted > 0 ? ratio[k] / counted : -1;
         row.misses = misses[k];
+        row.updateMs = percentile(updateMs[k], 0.5);
+        row.bufferMs = percentile(bufferMs[k], 0.5);
+        row.walkMs = percentile(walkMs[k], 0.5);
+        row.queries = queries[k] / n;
+        row.tracked = tracked[k] / n;
+        row.hiddenObjects = hiddenObjects[k] / n;
+        row.created = created[k] / n;
+        row.renewed = renewed[k] / n;
+        row.revealed = revealed[k] / n;
         g_totalMisses += misses[k];
         g_rows.push_back(row);
     }
@@ -780,6 +802,22 @@ void printTable() {
                     r.ratio < 0 ? "-" : fmt("%.3f", r.ratio).c_str(), r.misses ? "**" : "",
                     (unsigned long long)r.misses, r.misses ? "**" : "");
     }
+}
+
+/// The second table: each variant's frame cut into the scene update (placement queries, O, I and T
+/// writes, TBV creation and renewal), the walk (the traversal or the brick walk with its image) and the
+/// occlusion buffer's pass, with the update's counts: what a figure that misses its target is made of.
+void printBreakdown() {
+    std::printf("\nWhere the time goes (median ms of each part, so they need not add up to the median frame; "
+                "counts are means per frame):\n\n");
+    std::printf("| scene | variant | update ms | walk ms | buffer ms | placement queries | tracked | held by TBVs | "
+                "TBVs created | renewed | revealed |\n");
+    std::printf("|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
+    for (const Row& r : g_rows)
+        std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", r.scene.c_str(), r.variant.c_str(),
+                    fmt("%.3f", r.updateMs).c_str(), fmt("%.3f", r.walkMs).c_str(), fmt("%.3f", r.bufferMs).c_str(),
+                    fmt("%.0f", r.queries).c_str(), fmt("%.0f", r.tracked).c_str(), fmt("%.0f", r.hiddenObjects).c_str(),
+                    fmt("%.1f", r.created).c_str(), fmt("%.1f", r.renewed).c_str(), fmt("%.1f", r.revealed).c_str());
 }
 
 [[noreturn]] void usageError(const std::string& what) {
@@ -888,6 +926,7 @@ int main(int argc, char** argv) {
         return 1;
     }
     printTable();
+    printBreakdown();
     std::printf("\nreference notes:\n");
     for (const std::string& n : g_notes)
         std::printf("- %s\n", n.c_str());
