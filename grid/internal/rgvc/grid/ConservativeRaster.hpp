@@ -201,6 +201,12 @@ void rasterize(const Shape<D>& local, const IVec<D>& res, RowFn&& rowFn, double 
                 const double r = s.radius;
                 const double rr = kInner ? (r - slack) : (r + slack);
                 if (rr <= 0) return;
+                // A voxel's closed box lies in the ball only if its farthest corner does, and every point
+                // has a corner of the unit box at least half its diagonal, sqrt(D) / 2, away: a smaller
+                // ball holds no inner voxel, whatever its centre. The rows below would find none either
+                // (they are conservative); this skips them for the small movers that are most of a crowd
+                // (a moving sphere's O footprint is rebuilt every frame).
+                if (kInner && rr * rr < 0.25 * D) return;
                 auto chord = [&](const IVec<D>& row, double w) {
                     std::int32_t a, b;
                     if constexpr (kInner) innerRange(s.center.x - w, s.center.x + w, res.x, a, b, slack);
