@@ -44,7 +44,14 @@ using namespace rgvc;
 namespace Catch {
 template <> struct StringMaker<std::pair<int, int>> {
     static std::string convert(const std::pair<int, int>& p) {
-        return "(" + std::to_string(p.first) + "," + std::to_string(p.second) + ")";
+        // Appended, not "(" + std::string&&: GCC 12 warns a false -Wrestrict on that operator+ when
+        // inlined (GCC bug 105329).
+        std::string s = "(";
+        s += std::to_string(p.first);
+        s += ',';
+        s += std::to_string(p.second);
+        s += ')';
+        return s;
     }
 };
 } // namespace Catch
