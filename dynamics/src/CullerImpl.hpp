@@ -282,6 +282,9 @@ template <int D> struct Culler<D>::Impl {
     /// Whether one box object (Tracked or Static) holding voxel `seed` contains the voxel box lo..hi
     /// (inclusive): a fused box of opaque voxels inside it repeats it and is not drawn.
     bool boxObjectHolds(VoxelKey seed, const IVec<D>& lo, const IVec<D>& hi) const;
+    bool boxPairHolds(VoxelKey seed, const IVec<D>& lo, const IVec<D>& hi, const OcclusionBuffer3D& image, double slack,
+                      ObjectSlot (&pair)[2]) const
+        requires(D == 3);
     template <class S>
     void finishWalk(ViewScratch<S>& vs, const typename Traits::View& view, CullStats& st, std::uint64_t voxels,
                     std::uint64_t nodes, std::uint64_t empty, std::uint64_t hiddenNodes, std::uint64_t bricks,
