@@ -11,7 +11,8 @@
 // - A wall spanning the grid hides everything behind it at every yaw from 0 to 80 degrees and pitch
 //   from -40 to 40 (a sweep).
 // - Hidden movers stay hidden: behind closed walls no TBV is ever revealed.
-// - Budgets: an empty grid visits one node; the pyramid is exact after a traversal clears it.
+// - Budgets: an empty grid visits one node; the pyramid is exact after a traversal clears it; a fused
+//   box is drawn over a wall of unit boxes, not over a building and the ground slab under it.
 // Seeds are printed on failure (INFO).
 #include "CullerTestSupport.hpp"
 
@@ -365,6 +366,49 @@ TEST_CASE("brick traversal: work follows the non-empty part of the view", "[cull
         const std::uint64_t after = culler.cull(cam).stats.bricksVisited;
         CHECK(after < before); // the first cull read the old bricks, found them empty and cleared them
         CHECK(after <= 8);
+    }
+}
+
+TEST_CASE("brick traversal: fused boxes are drawn where they fuse, not over a building and its ground", "[culler3d][brick]") {
+    // The box grown from a building's voxels takes in the ground slab's row beneath it: inside neither
+    // object, but inside the two, which the walk draws itself (with the seam between them): it is not
+    // drawn (occludersExtended counts the fused boxes drawn). A wall of unit boxes is fused as before.
+    auto check = [](Culler3D& culler, const std::vector<ObjectDesc<3>>& objects, const Camera3& cam) -> const CullResult& {
+        const CullResult& r = culler.cull(cam);
+        std::vector<Shape<3>> shapes;
+        for (const ObjectDesc<3>& o : objects) shapes.push_back(o.shape);
+        const std::vector<bool> vis = ref::visible3D(shapes, cam);
+        for (std::size_t i = 0; i < objects.size(); ++i)
+            if (vis[i] && !contains(r.pvs, objects[i].id)) FAIL_CHECK("missed visible object " << objects[i].id);
+        return r;
+    };
+    const GridGeometry3 grid({0, 0, 0}, 1.0, {64, 32, 64});
+    SECTION("a building on a ground slab") {
+        const std::vector<ObjectDesc<3>> objects = {
+            {.id = 1, .shape = Box<3>{{0, 0, 0}, {64, 1, 64}}, .isStatic = true},   // the ground
+            {.id = 2, .shape = Box<3>{{20, 1, 30}, {44, 16, 36}}, .isStatic = true}, // the building
+            {.id = 3, .shape = Ball<3>{{32, 6, 48}, 1.0}, .isStatic = true},         // behind it
+        };
+        Culler3D culler(grid);
+        for (const ObjectDesc<3>& o : objects) culler.addObject(o);
+        const CullResult& r = check(culler, objects, makeCamera({32.5, 4.5, 4.5}, {0, 0, 1}, 60));
+        CHECK(r.stats.occludersExtended == 0);
+        CHECK(contains(r.pvs, 1));
+        CHECK(contains(r.pvs, 2));
+        CHECK_FALSE(contains(r.pvs, 3));
+    }
+    SECTION("a wall of unit boxes") {
+        std::vector<ObjectDesc<3>> objects;
+        ObjectId id = 10;
+        for (int y = 0; y < 12; ++y)
+            for (int x = 24; x < 40; ++x)
+                objects.push_back({.id = id++, .shape = Box<3>{{double(x), double(y), 30}, {x + 1.0, y + 1.0, 31}}, .isStatic = true});
+        objects.push_back({.id = 3, .shape = Ball<3>{{32, 6, 45}, 1.0}, .isStatic = true});
+        Culler3D culler(grid);
+        for (const ObjectDesc<3>& o : objects) culler.addObject(o);
+        const CullResult& r = check(culler, objects, makeCamera({32.5, 6.5, 5.5}, {0, 0, 1}, 60));
+        CHECK(r.stats.occludersExtended >= 1);
+        CHECK_FALSE(contains(r.pvs, 3));
     }
 }
 
