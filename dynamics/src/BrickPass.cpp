@@ -321,9 +321,10 @@ template <int D> bool Culler<D>::Impl::boxObjectHolds(VoxelKey seed, const IVec<
 /// row beneath it, is inside neither object, and was drawn on top of both every frame (a quarter of the
 /// 3D city's instructions, 6 % of the game world's). Boxes spanning three or more objects (walls of unit
 /// boxes) are drawn as before. Leaving a box undrawn is sound whatever the answer: the image only holds
-/// less; the answer only decides where the image may lose a little depth at a seam. The pair's slots go
-/// to `slots`: the caller classifies them at once, as the fused box would have been drawn before the
-/// brick's other objects are classified (drawn later, the 3D city's |PVS| rose by 5 %).
+/// less; the answer only decides where the image may lose a little depth at a seam (the 3D city's
+/// |PVS| / |visible| rose from 1.04 to 1.08: the fused box's depth at a building's base was a little
+/// better). The pair's slots go to `slots`: the caller classifies them at once, where the fused box was
+/// drawn, before the brick's other objects are classified.
 template <int D>
 bool Culler<D>::Impl::boxPairHolds(VoxelKey seed, const IVec<D>& lo, const IVec<D>& hi, const OcclusionBuffer3D& image,
                                    double slack, ObjectSlot (&slots)[2]) const
