@@ -217,11 +217,7 @@ private:
                 std::uint32_t bits = storage.opaqueBits(r.word) & span;
                 if (bits == 0) continue; // (most rows: U is read only where O is set, and again after each box,
                                          // which marks later voxels of the row used)
-                for (bits &= ~storage.usedBits(r.word, stamp); bits != 0; bits &= ~storage.usedBits(r.word, stamp)) {
-                    const std::int32_t x = lo.x + std::countr_zero(bits);
-                    bits &= bits - 1;
-                    drawFusedBox(grid, storage, frustum, *image, IVec3{x, y, z}, stamp, insideObject, st);
-                }
+                drawFusedBoxes(grid, storage, frustum, *image, r.word, bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
             }
         // The caller's list of the brick's objects, after the fused boxes as the ids would be.
         if constexpr (kLists) anyIds = onBrickIds(brick);
@@ -253,15 +249,7 @@ private:
             visible[r.z - lo.z] |= std::uint64_t(inView) << (8 * (r.y - lo.y));
         }
         if (tbvHere) onTbvs(brick, visible);
-        // Nothing in it. (onVoxel, which may add ids, ran for no voxel of this brick then.)
-        // (Not over a storage shared by concurrent views, kSharedScene: the pyramid is the scene's; it is
-        // left as a superset, which only costs a later walk the brick's voxels once more.)
-        if constexpr (!requires { Storage::kSharedScene; }) {
-            if (!anyIds && !tbvHere) {
-                storage.bricks().markEmpty(brick);
-                ++st.bricksCleared;
-            }
-        }
+        clearIfEmpty(storage, brick, anyIds, tbvHere, st);
     }
 
     /// visitBrick for a brick wholly inside the cone and the far limit, with the caller's object lists:
@@ -284,11 +272,7 @@ private:
                 if (image == nullptr) continue;
                 std::uint32_t bits = storage.opaqueBits(word) & full;
                 if (bits == 0) continue;
-                for (bits &= ~storage.usedBits(word, stamp); bits != 0; bits &= ~storage.usedBits(word, stamp)) {
-                    const std::int32_t x = lo.x + std::countr_zero(bits);
-                    bits &= bits - 1;
-                    drawFusedBox(grid, storage, frustum, *image, IVec3{x, y, z}, stamp, insideObject, st);
-                }
+                drawFusedBoxes(grid, storage, frustum, *image, word, bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
             }
         const bool anyIds = onBrickIds(brick);
         for (int i = 0; i < rows; ++i) storage.setVisitedBits(words[i], full, stamp);
@@ -300,6 +284,28 @@ private:
             for (std::int32_t z = lo.z; z < hi.z; ++z) visible[z - lo.z] = slice;
             onTbvs(brick, visible);
         }
+        clearIfEmpty(storage, brick, anyIds, tbvHere, st);
+    }
+
+    /// The fused boxes started from a row's opaque voxels `bits` (bit x - first.x of brick-row word
+    /// `word`, whose first voxel is `first`) that no box drawn this frame has used yet. U is read again
+    /// after each box, which marks later voxels of the row used.
+    template <class InsideObject>
+    void drawFusedBoxes(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D& image,
+                        std::size_t word, std::uint32_t bits, const IVec3& first, std::uint32_t stamp,
+                        InsideObject& insideObject, BrickTraversalStats3D& st) {
+        for (bits &= ~storage.usedBits(word, stamp); bits != 0; bits &= ~storage.usedBits(word, stamp)) {
+            const std::int32_t x = first.x + std::countr_zero(bits);
+            bits &= bits - 1;
+            drawFusedBox(grid, storage, frustum, image, IVec3{x, first.y, first.z}, stamp, insideObject, st);
+        }
+    }
+
+    /// A visited brick with nothing in it (no listed object or id, no TBV) is cleared in the pyramid.
+    /// (onVoxel, which may add ids, ran for no voxel of it then.) Not over a storage shared by concurrent
+    /// views, kSharedScene: the pyramid is the scene's; it is left as a superset, which only costs a later
+    /// walk the brick's voxels once more.
+    void clearIfEmpty(Storage& storage, const IVec3& brick, bool anyIds, bool tbvHere, BrickTraversalStats3D& st) {
         if constexpr (!requires { Storage::kSharedScene; }) {
             if (!anyIds && !tbvHere) {
                 storage.bricks().markEmpty(brick);
