@@ -606,15 +606,57 @@ struct Config {
     double voxelSize = 0; // --voxel-size V: every scene's grid re-made with voxels of V world units (0: the scene's)
 };
 
+/// One variant's counts per frame, summed over the measured frames and then divided into means.
+struct FrameMeans {
+    double voxels = 0, nodes = 0, empty = 0, hidden = 0, bricks = 0, pvs = 0;
+    // The update's counts (the second table, where the time goes).
+    double queries = 0, tracked = 0, hiddenObjects = 0, created = 0, renewed = 0, revealed = 0;
+
+    void add(const CullResult& r) {
+        const CullStats& s = r.stats;
+        voxels += double(s.voxelsVisited);
+        nodes += double(s.nodesVisited);
+        empty += double(s.nodesEmpty);
+        hidden += double(s.nodesHidden);
+        bricks += double(s.bricksVisited);
+        pvs += double(r.pvs.size());
+        queries += double(s.placementQueries);
+        tracked += double(s.trackedObjects);
+        hiddenObjects += double(s.hiddenObjects);
+        created += double(s.tbvsCreated);
+        renewed += double(s.tbvsRenewed);
+        revealed += double(s.tbvsRevealed);
+    }
+    FrameMeans over(double n) const {
+        FrameMeans m = *this;
+        for (double FrameMeans::*f : {&FrameMeans::voxels, &FrameMeans::nodes, &FrameMeans::empty, &FrameMeans::hidden,
+                                      &FrameMeans::bricks, &FrameMeans::pvs, &FrameMeans::queries, &FrameMeans::tracked,
+                                      &FrameMeans::hiddenObjects, &FrameMeans::created, &FrameMeans::renewed,
+                                      &FrameMeans::revealed})
+            m.*f /= n;
+        return m;
+    }
+};
+
+/// One variant's times per frame: the whole cull and its parts (CullStats), for medians.
+struct FrameTimes {
+    std::vector<double> cull, update, buffer, walk;
+    void add(const CullStats& s) {
+        cull.push_back(s.cullMs);
+        update.push_back(s.updateMs);
+        buffer.push_back(s.bufferMs);
+        walk.push_back(std::max(0.0, s.cullMs - s.updateMs - s.bufferMs));
+    }
+};
+
 struct Row {
     std::string scene, variant;
     bool hierarchical = true; // the brick walk ran (its node counts are printed)
-    double medianMs = 0, p90Ms = 0, voxels = 0, nodes = 0, empty = 0, hidden = 0, bricks = 0, pvs = 0;
+    double medianMs = 0, p90Ms = 0;
+    double updateMs = 0, bufferMs = 0, walkMs = 0; // medians of the parts (where the time goes)
+    FrameMeans mean;
     double ratio = -1; // -1: no frame counted
     std::uint64_t misses = 0;
-    // Where the time goes (the second table): medians of CullStats' parts, means of the update's counts.
-    double updateMs = 0, bufferMs = 0, walkMs = 0;
-    double queries = 0, tracked = 0, hiddenObjects = 0, created = 0, renewed = 0, revealed = 0;
 };
 
 std::vector<Row> g_rows;
@@ -676,9 +718,9 @@ template <int D> void runScene(World<D>& w, const Config& cfg) {
     const double buildMs = msSince(tBuild);
     const PlacementQuery<D> placementOf = [&w](ObjectId id) { return w.objects[std::size_t(id)].shape; };
 
-    std::vector<std::vector<double>> ms(nv), updateMs(nv), bufferMs(nv), walkMs(nv);
-    std::vector<double> voxels(nv), nodes(nv), empty(nv), hidden(nv), bricks(nv), pvs(nv), ratio(nv);
-    std::vector<double> queries(nv), tracked(nv), hiddenObjects(nv), created(nv), renewed(nv), revealed(nv);
+    std::vector<FrameTimes> times(nv);
+    std::vector<FrameMeans> sums(nv);
+    std::vector<double> ratio(nv);
     std::vector<std::uint64_t> misses(nv);
     int refEvery = cfg.refEvery > 0 ? cfg.refEvery : 1, checked = 0, counted = 0;
     double refMs = 0, visibleSum = 0, firstRefMs = 0;
@@ -707,23 +749,8 @@ template <int D> void runScene(World<D>& w, const Config& cfg) {
             const std::size_t k = (j + std::size_t(f)) % nv; // rotate the order
             const CullResult& r = cullers[k].cull(cam, placementOf);
             if (m < 0) continue;
-            const CullStats& s = r.stats;
-            ms[k].push_back(s.cullMs);
-            updateMs[k].push_back(s.updateMs);
-            bufferMs[k].push_back(s.bufferMs);
-            walkMs[k].push_back(std::max(0.0, s.cullMs - s.updateMs - s.bufferMs));
-            queries[k] += double(s.placementQueries);
-            tracked[k] += double(s.trackedObjects);
-            hiddenObjects[k] += double(s.hiddenObjects);
-            created[k] += double(s.tbvsCreated);
-            renewed[k] += double(s.tbvsRenewed);
-            revealed[k] += double(s.tbvsRevealed);
-            voxels[k] += double(s.voxelsVisited);
-            nodes[k] += double(s.nodesVisited);
-            empty[k] += double(s.nodesEmpty);
-            hidden[k] += double(s.nodesHidden);
-            bricks[k] += double(s.bricksVisited);
-            pvs[k] += double(r.pvs.size());
+            times[k].add(r.stats);
+            sums[k].add(r);
             if (!check) continue;
             if (count) ratio[k] += double(r.pvs.size()) / double(truth.count);
             for (std::size_t i = 0; i < w.objects.size(); ++i)
@@ -750,25 +777,14 @@ template <int D> void runScene(World<D>& w, const Config& cfg) {
         row.scene = w.name;
         row.variant = variants[k].name;
         row.hierarchical = variants[k].options.hierarchical;
-        row.medianMs = percentile(ms[k], 0.5);
-        row.p90Ms = percentile(ms[k], 0.9);
-        row.voxels = voxels[k] / n;
-        row.nodes = nodes[k] / n;
-        row.empty = empty[k] / n;
-        row.hidden = hidden[k] / n;
-        row.bricks = bricks[k] / n;
-        row.pvs = pvs[k] / n;
+        row.medianMs = percentile(times[k].cull, 0.5);
+        row.p90Ms = percentile(times[k].cull, 0.9);
+        row.updateMs = percentile(times[k].update, 0.5);
+        row.bufferMs = percentile(times[k].buffer, 0.5);
+        row.walkMs = percentile(times[k].walk, 0.5);
+        row.mean = sums[k].over(n);
         row.ratio = counted > 0 ? ratio[k] / counted : -1;
         row.misses = misses[k];
-        row.updateMs = percentile(updateMs[k], 0.5);
-        row.bufferMs = percentile(bufferMs[k], 0.5);
-        row.walkMs = percentile(walkMs[k], 0.5);
-        row.queries = queries[k] / n;
-        row.tracked = tracked[k] / n;
-        row.hiddenObjects = hiddenObjects[k] / n;
-        row.created = created[k] / n;
-        row.renewed = renewed[k] / n;
-        row.revealed = revealed[k] / n;
         g_totalMisses += misses[k];
         g_rows.push_back(row);
     }
@@ -797,8 +813,8 @@ void printTable() {
         auto three = [&](double v) { return r.hierarchical ? fmt("%.0f", v) : std::string("-"); };
         std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s%llu%s |\n", r.scene.c_str(),
                     r.variant.c_str(), fmt("%.3f", r.medianMs).c_str(), fmt("%.3f", r.p90Ms).c_str(),
-                    fmt("%.0f", r.voxels).c_str(), three(r.nodes).c_str(), three(r.empty).c_str(),
-                    three(r.hidden).c_str(), three(r.bricks).c_str(), fmt("%.1f", r.pvs).c_str(),
+                    fmt("%.0f", r.mean.voxels).c_str(), three(r.mean.nodes).c_str(), three(r.mean.empty).c_str(),
+                    three(r.mean.hidden).c_str(), three(r.mean.bricks).c_str(), fmt("%.1f", r.mean.pvs).c_str(),
                     r.ratio < 0 ? "-" : fmt("%.3f", r.ratio).c_str(), r.misses ? "**" : "",
                     (unsigned long long)r.misses, r.misses ? "**" : "");
     }
@@ -816,8 +832,8 @@ void printBreakdown() {
     for (const Row& r : g_rows)
         std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", r.scene.c_str(), r.variant.c_str(),
                     fmt("%.3f", r.updateMs).c_str(), fmt("%.3f", r.walkMs).c_str(), fmt("%.3f", r.bufferMs).c_str(),
-                    fmt("%.0f", r.queries).c_str(), fmt("%.0f", r.tracked).c_str(), fmt("%.0f", r.hiddenObjects).c_str(),
-                    fmt("%.1f", r.created).c_str(), fmt("%.1f", r.renewed).c_str(), fmt("%.1f", r.revealed).c_str());
+                    fmt("%.0f", r.mean.queries).c_str(), fmt("%.0f", r.mean.tracked).c_str(), fmt("%.0f", r.mean.hiddenObjects).c_str(),
+                    fmt("%.1f", r.mean.created).c_str(), fmt("%.1f", r.mean.renewed).c_str(), fmt("%.1f", r.mean.revealed).c_str());
 }
 
 [[noreturn]] void usageError(const std::string& what) {
