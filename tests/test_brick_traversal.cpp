@@ -228,6 +228,9 @@ TEST_CASE("brick traversal: a closed room hides everything outside it", "[culler
                     }
                 }
                 CHECK(leaked == 0);
+                // The walls cover the whole image: it is never skipped (CullerOptions::adaptiveImage),
+                // however few objects outside its hidden nodes hold.
+                CHECK_FALSE(r.stats.imageSkipped);
                 CHECK(r.stats.bricksVisited <= 2 * roomBricks);
                 // Only the room's bricks are read: a constant times its interior, never the grid.
                 CHECK(r.stats.voxelsVisited <= 512 * roomBricks);

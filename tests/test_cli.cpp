@@ -261,12 +261,14 @@ TEST_CASE("3D scenes: culled, with every 3D rule checked first", "[cli]") {
     // a superset (here the same: the wall hides sphere 1 in the grid already).
     CHECK(r.lines()[0]["stats"].contains("buffer_ms"));
     CHECK(r.lines()[0]["stats"].contains("caps_deferred"));
-    Run off = runRgvc("cull " + quote(path) + " --frames 3 --buffer-rows 0 --caps-every-frame");
+    CHECK(r.lines()[0]["stats"].contains("image_skipped"));
+    Run off = runRgvc("cull " + quote(path) + " --frames 3 --buffer-rows 0 --caps-every-frame --image-every-frame");
     REQUIRE(off.status == 0);
     for (const json& line : off.lines()) {
         CHECK(line["pvs"] == json::array({2, 3}));
         CHECK(line["stats"]["buffer_tested"] == 0);
         CHECK(line["stats"]["caps_deferred"] == false);
+        CHECK(line["stats"]["image_skipped"] == false);
     }
     j["objects"][0]["shape"] = "circle";
     const std::string bad = writeTemp("three-bad.json", j.dump());

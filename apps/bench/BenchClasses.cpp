@@ -27,7 +27,7 @@
 // inside an object (from inside one the reference sees that object only).
 //
 //   rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] [--no-reference] [--quick]
-//                      [--variant NAME]   (only that variant: new, adaptimg, adaptbuf, freshbuf, img128, nobuf, lazy, old, rings, vfc;
+//                      [--variant NAME]   (only that variant: new, fullimg, adaptbuf, freshbuf, img128, nobuf, lazy, old, rings, vfc;
 //                                       for profiling)
 //                      [--voxel-size V]   (every scene's grid re-made with voxels of V world units)
 //
@@ -677,7 +677,7 @@ template <int D> struct Variant {
 };
 
 template <int D> std::vector<Variant<D>> variantsFor() {
-    if constexpr (D == 3) return {{"new", {}}, {"adaptimg", {.adaptiveImage = true}}, {"adaptbuf", {.adaptiveBuffer = true}}, {"freshbuf", {.bufferFromTraversalImage = false}}, {"img128", {.traversalImageRows = 128}}, {"nobuf", {.occlusionBufferRows = 0}}, {"lazy", {.lazyStorage = true}}, {"old", {.hierarchical = false}}, {"vfc", {.occlusion = false}}};
+    if constexpr (D == 3) return {{"new", {}}, {"fullimg", {.adaptiveImage = false}}, {"adaptbuf", {.adaptiveBuffer = true}}, {"freshbuf", {.bufferFromTraversalImage = false}}, {"img128", {.traversalImageRows = 128}}, {"nobuf", {.occlusionBufferRows = 0}}, {"lazy", {.lazyStorage = true}}, {"old", {.hierarchical = false}}, {"vfc", {.occlusion = false}}};
     else return {{"new", {}}, {"rings", {.hierarchical = false}}, {"vfc", {.occlusion = false}}};
 }
 

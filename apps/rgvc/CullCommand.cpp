@@ -49,8 +49,8 @@ using Clock = std::chrono::steady_clock;
 const char* const kCullUsage =
     "usage: rgvc cull SCENE.json [--frames N] [--dump-objects] [--no-occlusion] [--no-extension]\n"
     "                 [--no-tbv] [--filled-tbv] [--caps-every-frame] [--buffer-rows R] [--buffer-bins B]\n"
-    "                 [--shells] [--image-rows R] [--adaptive-buffer] [--gl] [--gl-method M] [--gl-size WxH]\n"
-    "                 [--gl-nvp N] [--gl-tav F]\n"
+    "                 [--shells] [--image-rows R] [--image-every-frame] [--adaptive-buffer] [--gl] [--gl-method M]\n"
+    "                 [--gl-size WxH] [--gl-nvp N] [--gl-tav F]\n"
     "\n"
     "Runs N frames of a scene file (the format is described in the project README) and prints one\n"
     "JSON object per frame on stdout:\n"
@@ -73,6 +73,9 @@ const char* const kCullUsage =
     "  --shells         3D: the paper's per-voxel shell traversal with cap polygons instead of the\n"
     "                   brick tree with its occlusion image (the default; README \"How it works\")\n"
     "  --image-rows R   3D brick tree: rows of its occlusion image, 0..2048 (default 0: 32 to 128, from the fov)\n"
+    "  --image-every-frame  3D brick tree: its occlusion image on every frame (default: skipped for 1-8\n"
+    "                   frames after it hid under an eighth of what the walk read, covered under 90 % of\n"
+    "                   its pixels and met no mesh; stats.image_skipped)\n"
     "  --adaptive-buffer  skip the occlusion buffer's pass for 1-8 frames after it hid under a tenth of\n"
     "                   what it tested (stats.buffer_skipped)\n"
     "  --gl             3D: the GL occlusion-query stage after the CPU pipeline (headless, OSMesa): pvs is\n"
@@ -94,7 +97,7 @@ const char* const kCullUsage =
     "hidden_objects, tbvs_created, tbvs_renewed, tbvs_revealed, tbvs_refused, tbvs_held, camera_jump,\n"
     "speed_violations, grid_writes, tbv_lookups_skipped, caps_deferred, caps_from_shell, buffer_tested,\n"
     "buffer_hidden, buffer_ms, nodes_visited, nodes_empty, nodes_hidden, bricks_visited,\n"
-    "image_hidden;\n"
+    "image_hidden, image_skipped;\n"
     "frame 0 adds setup_ms.\n"
     "\n"
     "Exit status: 0 success; 2 bad input (one line \"FILE: FIELD: PROBLEM\" on stderr) or bad usage\n"
@@ -164,6 +167,8 @@ CullArgs parseArgs(int argc, char** argv) {
                 a.options.occlusionBufferBins = int(parseInteger("--buffer-bins", argv[++i], 0, OcclusionBuffer2D::kMaxBins));
             } else if (arg == "--shells") {
                 a.options.hierarchical = false;
+            } else if (arg == "--image-every-frame") {
+                a.options.adaptiveImage = false;
             } else if (arg == "--adaptive-buffer") {
                 a.options.adaptiveBuffer = true;
             } else if (arg == "--gl") {
@@ -238,6 +243,7 @@ ojson statsJson(const CullStats& s) {
     j["nodes_hidden"] = s.nodesHidden;
     j["bricks_visited"] = s.bricksVisited;
     j["image_hidden"] = s.imageHidden;
+    j["image_skipped"] = s.imageSkipped;
     j["placement_queries"] = s.placementQueries;
     j["tracked_objects"] = s.trackedObjects;
     j["hidden_objects"] = s.hiddenObjects;

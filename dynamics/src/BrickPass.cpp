@@ -41,6 +41,8 @@ void Culler<D>::Impl::classify(ViewScratch<S>& vs, ObjectSlot slot, const View& 
         }
 
         addToPvs(vs, slot);
+        // (CullerOptions::adaptiveImage: a mesh in view keeps the image on next frame.)
+        if (r.at.occludes && std::holds_alternative<MeshSolid>(r.at.local)) vs.meshInView = true;
         // Drawn when it spans enough pixels: a smaller occluder hides little of a brick (the refinement
         // pass draws it). Spheres from 16 pixels across: spheres-3d.json took 8.7 ms per frame with a
         // threshold of 4 pixels, 7.5 ms with 16, 4.3 with 32 (|PVS| 192, 199, 210), the clusters scene of
@@ -156,6 +158,7 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
     constexpr bool shared = ViewScratch<S>::kShared;
     const bool adaptive = !shared && options.adaptiveImage && options.occlusion;
     const bool skipImage = adaptive && imageSkip > 0;
+    vs.meshInView = false;
     if (skipImage) --imageSkip;
     st.imageSkipped = skipImage;
     vs.imageActive = !skipImage && options.occlusion && image.begin(view, rows);
@@ -266,8 +269,14 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
         },
         adaptive && vs.imageActive);
     if (adaptive && vs.imageActive) {
-        // Paid: the hidden nodes held at least as many occupied bricks in view as the walk read.
-        if (ts.bricksSkipped >= ts.bricksVisited) {
+        // Paid when the image hid at least one occupied brick in view for every eight the walk read, or
+        // covered nine tenths of its pixels (a closed room, a street between buildings: a turn of the
+        // camera stays behind the same walls, whatever the count says in a room with few objects
+        // outside), or a mesh occluder was in view (a mesh occludes only through O's fused boxes,
+        // which the refinement pass's fresh image does not draw: OcclusionBuffer3D::draw).
+        const std::size_t pixels = std::size_t(image.rows()) * std::size_t(image.cols());
+        const bool pays = 8 * ts.bricksSkipped >= ts.bricksVisited || vs.meshInView || 10 * image.coveredPixels() >= 9 * pixels;
+        if (pays) {
             imageBackoff = 1;
         } else {
             imageSkip = imageBackoff;

@@ -162,6 +162,7 @@ template <int D> struct Culler<D>::Impl {
         // Mutable: voxelState (const) asks it about voxels after the frame, which only counts in its stats.
         mutable typename Traits::Buffer traversalImage;
         bool imageActive = false;
+        bool meshInView = false;                 // 3D: the walk met a mesh occluder in view (adaptiveImage)
         bool imageKept = false;                  // the last walk drew into traversalImage (voxelState reads it)
         typename Traits::View imageView;         // that walk's view
         std::vector<ObjectSlot> revealedPending; // main: revealed during the walk, classified after it

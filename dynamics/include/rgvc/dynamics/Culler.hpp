@@ -329,19 +329,21 @@ struct CullerOptions {
     /// alone lets one through now and then at a room's corner), and a skipped frame reports them.
     bool adaptiveBuffer = false;
     /// 3D hierarchical only: walk without the occlusion image on frames after it has not been paying.
-    /// The image pays where it hides what the walk would read: after a frame whose hidden nodes held
-    /// fewer occupied bricks in view than the walk read, the next 1, then 2, 4 and at most 8 frames walk
-    /// as view-frustum culling does (every TBV met in view revealed; stats.imageSkipped), and the
-    /// occlusion buffer's pass draws every kept object into a fresh image; a frame whose image pays resets
-    /// the schedule. What is skipped is the walk's occlusion, never conservativeness, and the buffer's
-    /// pass still hides what the image would have (the same |PVS| on every class of rgvc_bench_classes).
-    /// Behind closed walls and in street-level cities the image hides several times what the walk reads
-    /// and stays on; in the game world, clusters, large worlds and the paper's spheres it costs more than
-    /// it saves (README, "Scene classes"). cull() only (cullViews' views keep the image every frame).
-    /// Off by default: a frame without the image keeps the objects it would have hidden in O and I
-    /// (tracked, not held by TBVs), and small scenes where the image hides a few objects behind one wall
-    /// (the dynamic-scene and closed-room tests) would walk without it on most frames.
-    bool adaptiveImage = false;
+    /// After a frame whose image hid fewer occupied bricks in view than an eighth of those the walk
+    /// read, covered under nine tenths of its pixels and met no mesh occluder in view, the next 1, then
+    /// 2, 4 and at most 8 frames walk as view-frustum culling does (every TBV met in view revealed;
+    /// stats.imageSkipped), and the occlusion buffer's pass draws every kept object into a fresh image;
+    /// a frame whose image pays resets the schedule. What is skipped is the walk's occlusion, never
+    /// conservativeness; the buffer's pass still hides most of what the image would have.
+    /// Where the image pays: behind closed walls and in streets (nine tenths of the image covered), in
+    /// the game world's buildings, and wherever a mesh is in view (meshes occlude only through O, which
+    /// the buffer's fresh image cannot draw). Where it does not: clouds of small objects and large, mostly
+    /// empty worlds, where it hides almost nothing the walk would read and costs draws and tests (README,
+    /// "Scene classes": clusters and the large world 12-14 % fewer instructions). cull() only (cullViews'
+    /// views keep the image every frame). A skipped frame keeps in O and I the movers the image would have
+    /// given TBVs, and lets through what only the walk's fused boxes hide (seams between spheres):
+    /// tightness for time. false: the image every frame (the bench's `fullimg`).
+    bool adaptiveImage = true;
     /// The output-sensitive core (BrickTraversal3D.hpp, BrickTraversal2D.hpp). The grid's 8^D bricks
     /// form an implicit octree (quadtree in 2D) whose nodes know whether anything (an id or a TBV) lies
     /// below them; the tree is walked front to back, empty nodes are skipped in O(1), every node is tested

@@ -59,7 +59,7 @@ struct BrickTraversalStats3D {
     std::uint64_t voxelsVisited = 0; ///< voxels of those bricks inside the frustum
     std::uint64_t fusedBoxes = 0;    ///< boxes of opaque voxels drawn as occluders (drawFusedBox)
     /// Occupied bricks touching the frustum below the hidden nodes: what the image saved the walk from
-    /// reading (counted up to 4 x bricksVisited + 64, which is all CullerOptions::adaptiveImage asks).
+    /// reading (counted up to bricksVisited / 4 + 16, more than CullerOptions::adaptiveImage asks).
     std::uint64_t bricksSkipped = 0;
 };
 
@@ -125,11 +125,12 @@ public:
 private:
     /// Adds to st.bricksSkipped the occupied bricks touching the frustum in the node of `level` whose first
     /// voxel is lo, walking its subtree with the same frustum test as the walk, until the count reaches
-    /// 4 x bricksVisited + 64: enough for the adaptive schedule's question, and it keeps the count's cost
-    /// a fraction of the walk's (a closed room hides thousands of bricks outside it).
+    /// bricksVisited / 4 + 16: twice what the adaptive schedule asks for (one skipped brick per eight
+    /// read) unless the walk reads more than twice as much after the node, and it keeps the count's cost
+    /// a small part of the walk's (a closed room hides thousands of bricks outside it).
     void countSkipped(const BrickPyramid<3>& tree, const IVec3& res, const ViewFrustum& frustum, int level, const IVec3& lo,
                       BrickTraversalStats3D& st) {
-        const std::uint64_t cap = 4 * st.bricksVisited + 64;
+        const std::uint64_t cap = st.bricksVisited / 4 + 16;
         if (st.bricksSkipped >= cap) return;
         m_count.clear();
         m_count.push_back({level, lo / (BrickPyramid<3>::kBrickSize << level)});
