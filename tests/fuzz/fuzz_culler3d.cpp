@@ -243,6 +243,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::optional<Camera3> lastCamera;
     std::vector<ObjectId> lastPvs; // the PVS of lastCamera, valid while nothing changed since
     bool lastDeferred = false;     // whether the cull that gave lastPvs started without caps
+    bool lastSkipped = false;      // whether it walked without the occlusion image
     bool lastValid = false;
 
     auto afterRefusal = [&](const char* what) {
@@ -251,12 +252,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         for (const auto& [id, s] : model.objects)
             if (!culler->hasObject(id)) bug(std::string("refused ") + what + " lost object " + std::to_string(id));
         // The same camera gives the same PVS, unless adaptive caps (CullerOptions::adaptiveCaps) started one
-        // of the two culls without caps: each cull advances that schedule, legitimately.
+        // of the two culls without caps, or the adaptive image (CullerOptions::adaptiveImage) walked one
+        // of them without the image: each cull advances those schedules, legitimately.
         if (lastValid) {
             const CullResult& again = culler->cull(*lastCamera);
-            if (again.stats.capsDeferred == lastDeferred && again.pvs != lastPvs)
+            if (again.stats.capsDeferred == lastDeferred && again.stats.imageSkipped == lastSkipped && again.pvs != lastPvs)
                 bug(std::string("refused ") + what + " changed the PVS");
             lastDeferred = again.stats.capsDeferred;
+            lastSkipped = again.stats.imageSkipped;
             lastPvs = again.pvs;
         }
     };
@@ -333,6 +336,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 lastCamera = cam;
                 lastPvs = r.pvs;
                 lastDeferred = r.stats.capsDeferred;
+                lastSkipped = r.stats.imageSkipped;
                 lastValid = true;
             } catch (const InvalidInput& e) {
                 if (kTrace) std::fprintf(stderr, "cull refused: %s\n%s\n", e.what(), reference::toJson(culler->grid(), {}, cam).c_str());
