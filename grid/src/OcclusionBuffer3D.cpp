@@ -96,6 +96,12 @@ void OcclusionBuffer3D::startImage() {
     m_active = true;
 }
 
+std::size_t OcclusionBuffer3D::coveredPixels() const {
+    std::size_t n = 0;
+    for (const double d : m_depth) n += d < kInf; // vectorized
+    return n;
+}
+
 OcclusionBuffer3D::PixelRect OcclusionBuffer3D::pixelsOf(double x0, double x1, double y0, double y1) const {
     // Pixel i covers [-halfW + i w, -halfW + (i + 1) w]; a small index margin keeps a direction on a
     // pixel boundary in both neighbours despite rounding.

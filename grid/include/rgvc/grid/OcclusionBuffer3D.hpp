@@ -51,7 +51,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 namespace rgvc {
@@ -173,14 +172,9 @@ public:
     double depthAt(int col, int row) const { return m_depth[std::size_t(row) * std::size_t(m_cols) + std::size_t(col)]; }
     const OcclusionBufferStats& stats() const { return m_stats; }
     /// Pixels some occluder covers (a finite depth), of rows() x cols(). One pass over the image.
-    std::size_t coveredPixels() const {
-        std::size_t n = 0;
-        for (const double d : m_depth) n += d < kInfDepth; // vectorized
-        return n;
-    }
+    std::size_t coveredPixels() const;
 
 private:
-    static constexpr double kInfDepth = std::numeric_limits<double>::infinity();
     /// Relative margin of every distance and corner test, far above the rounding of a few dozen double
     /// operations (~1e-15) and far below anything that changes a verdict in practice.
     static constexpr double kRelMargin = 1e-9;
