@@ -3,6 +3,7 @@
 // reference does not see). Tag: [buffer2d].
 #include "CullerTestSupport.hpp"
 
+#include "rgvc/grid/FastAtan2.hpp"
 #include "rgvc/grid/OcclusionBuffer2D.hpp"
 #include "rgvc/grid/ViewWedge.hpp"
 
@@ -12,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 #include <utility>
 #include <vector>
@@ -56,6 +58,46 @@ std::pair<double, double> extentOf(const Shape<2>& s, const Vec2& eye) {
 }
 
 } // namespace
+
+TEST_CASE("buffer2d: fastAtan2 stays within its bound of std::atan2", "[buffer2d]") {
+    // The bound's derivation (FastAtan2.hpp) samples the octant's t every 1e-8; here every 1e-7, the
+    // octant edges (t near 0 and 1) finer, and directions around the whole circle at many scales.
+    double worst = 0;
+    for (int i = 0; i <= 10'000'000; ++i) {
+        const double t = i * 1e-7;
+        worst = std::max(worst, std::abs(fastAtan2(t, 1.0) - std::atan2(t, 1.0)));
+    }
+    for (int i = 0; i <= 100'000; ++i) {
+        const double t = i * 1e-11;
+        worst = std::max(worst, std::abs(fastAtan2(t, 1.0) - std::atan2(t, 1.0)));
+        worst = std::max(worst, std::abs(fastAtan2(1.0 - t, 1.0) - std::atan2(1.0 - t, 1.0)));
+    }
+    INFO("octant: largest error " << worst);
+    CHECK(worst < 2e-9); // the measured 1.51e-9, well inside kFastAtan2MaxError = 1e-7
+    std::mt19937_64 rng(0xa7a2);
+    std::uniform_real_distribution<double> angle(-kPi, kPi), scale(-300.0, 300.0);
+    worst = 0;
+    for (int i = 0; i < 1'000'000; ++i) {
+        const double a = angle(rng), r = std::exp2(scale(rng) * 0.1);
+        const double x = r * std::cos(a), y = r * std::sin(a);
+        worst = std::max(worst, std::abs(fastAtan2(y, x) - std::atan2(y, x)));
+    }
+    INFO("circle (seed 0xa7a2): largest error " << worst);
+    CHECK(worst < kFastAtan2MaxError);
+    // Signs of zero and the octant edges as std::atan2; NaN where nothing is known.
+    for (const double x : {1.0, -1.0, 0.0, -0.0, 2.5, -1e-300})
+        for (const double y : {1.0, -1.0, 0.0, -0.0, 1e-300, -7.0}) {
+            INFO("atan2(" << y << ", " << x << ")");
+            CHECK(std::abs(fastAtan2(y, x) - std::atan2(y, x)) < kFastAtan2MaxError);
+            CHECK(std::signbit(fastAtan2(y, x)) == std::signbit(std::atan2(y, x)));
+        }
+    const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+    CHECK(fastAtan2(inf, 1.0) == Approx(kPi / 2));
+    CHECK(fastAtan2(1.0, -inf) == Approx(kPi));
+    CHECK(std::isnan(fastAtan2(nan, 1.0)));
+    CHECK(std::isnan(fastAtan2(1.0, nan)));
+    CHECK(std::isnan(fastAtan2(inf, inf)));
+}
 
 TEST_CASE("buffer2d: fixed occluders and occludees", "[buffer2d]") {
     const Camera2 cam = makeCamera({50, 50}, {1, 0}, 90);

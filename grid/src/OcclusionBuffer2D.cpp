@@ -1,5 +1,6 @@
 // OcclusionBuffer2D: see the header for the geometry, the soundness argument and the margins.
 #include "rgvc/grid/OcclusionBuffer2D.hpp"
+#include "rgvc/grid/FastAtan2.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -16,8 +17,14 @@ constexpr double kEps = 2.220446049250313e-16; // DBL_EPSILON
 /// Relative margin of every distance and "passes through the interior" test, far above the rounding of
 /// a few dozen double operations (~1e-15) and far below anything that changes a verdict in practice.
 constexpr double kRelMargin = 1e-9;
-/// [Radians] widening of every angular extent (both sides), and of the buffer's range over the wedge.
-constexpr double kAnglePad = 1e-10;
+/// [Radians] widening of the buffer's range over the wedge (both sides): the rounding of its boundary
+/// rays, which are computed with std::cos and std::sin.
+constexpr double kRangePad = 1e-10;
+/// [Radians] widening of every angular extent (both sides): the rounding, and the error of the angles
+/// (fastAtan2, kFastAtan2MaxError each). An extent's end adds or subtracts at most three computed angles
+/// (a grown polygon's: its centre's bin coordinate, a vertex's angle from it, a disc's half-width), so
+/// four errors cover it.
+constexpr double kAnglePad = 1e-10 + 4 * kFastAtan2MaxError;
 /// [Bins] widening of every bin index range (both sides).
 constexpr double kIndexBias = 1e-6;
 /// Internal shrink / growth: this many ulps of the largest coordinate magnitude (apex or shape).
@@ -36,11 +43,12 @@ double magnitudeOf(const Shape<2>& shape, const Vec2& apex, Box<2>& bounds) {
 }
 
 /// Angular half-width [radians] of a disc of radius rho seen from distance l > rho:
-/// asin(rho / l) = atan2(rho, sqrt(l^2 - rho^2)), with l^2 - rho^2 as (l - rho)(l + rho).
-double halfAngle(double rho, double l) { return rho > 0 ? std::atan2(rho, std::sqrt((l - rho) * (l + rho))) : 0.0; }
+/// asin(rho / l) = atan2(rho, sqrt(l^2 - rho^2)), with l^2 - rho^2 as (l - rho)(l + rho); within
+/// kFastAtan2MaxError (covered by kAnglePad).
+double halfAngle(double rho, double l) { return rho > 0 ? fastAtan2(rho, std::sqrt((l - rho) * (l + rho))) : 0.0; }
 
-/// Signed angle [radians, (-pi, pi]] from r to v (counter-clockwise positive).
-double angleFrom(const Vec2& r, const Vec2& v) { return std::atan2(cross2(r, v), glm::dot(r, v)); }
+/// Signed angle [radians, [-pi, pi]] from r to v (counter-clockwise positive), within kFastAtan2MaxError.
+double angleFrom(const Vec2& r, const Vec2& v) { return fastAtan2(cross2(r, v), glm::dot(r, v)); }
 
 } // namespace
 
@@ -51,7 +59,7 @@ bool OcclusionBuffer2D::begin(const ViewWedge& view, int bins) {
     if (bins < 1 || !(fov >= kMinFov) || !allFinite<2>(view.apex()) || !allFinite<2>(view.direction())) return false;
     m_apex = view.apex();
     m_dir = view.direction(); // unit (safeNormalize)
-    const double half = 0.5 * fov * (1 + 1e-9) + kAnglePad;
+    const double half = 0.5 * fov * (1 + 1e-9) + kRangePad;
     m_full = view.isFullCircle() || half >= kPi;
     m_half = m_full ? kPi : half;
     m_span = 2 * m_half;
@@ -122,9 +130,9 @@ void OcclusionBuffer2D::boxExtent(const Vec2& lo, const Vec2& hi, double& x0, do
     // The two extreme corners' bin coordinates are then the extent's ends, up to a turn: both lie in one
     // window of 2 pi, so x(qMax) - x(qMin) is the arc's width or the width less 2 pi (a box behind the
     // camera, across the window's cut), which adds the turn back. A difference that rounding made
-    // negative but small (a box ~1e-16 rad wide) is a zero width. Two atan2 per box: four, one per corner,
-    // were 17 % of the instructions of rgvc_bench_classes' random 2D scenes, and three (the corners
-    // measured from the centre) 12 %.
+    // negative but small (a box narrower than the angles' error) is a zero width. Two angles per box:
+    // four, one per corner, were 17 % of the instructions of rgvc_bench_classes' random 2D scenes, and
+    // three (the corners measured from the centre) 12 % (with std::atan2; fastAtan2 since).
     Vec2 qMin = lo, qMax = lo;
     for (int k = 1; k < 4; ++k) {
         const Vec2 q{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y};
@@ -317,7 +325,9 @@ void OcclusionBuffer2D::draw(const Shape<2>& shape, double shrink) {
         const double num = (l - rho) * (l + rho), scale = 1 + kRelMargin, absPad = kRelMargin * l;
         const double* rx = m_rayX.data();
         const double* ry = m_rayY.data();
-        drawRuns(x - beta - 1e-9, x + beta + 1e-9, [&](int i0, int i1, double* out) {
+        // (The extent only selects the bins to try: each boundary ray is tested exactly. Padded as the
+        // occludees' extents, so that fastAtan2's error drops no bin.)
+        drawRuns(x - beta - kAnglePad, x + beta + kAnglePad, [&](int i0, int i1, double* out) {
             for (int i = i0; i <= i1; ++i) { // branch-free (the square root of a ray that misses is unused)
                 const double cd = c.x * rx[i] + c.y * ry[i], cr = std::abs(c.x * ry[i] - c.y * rx[i]);
                 const bool in = (cd > 0) & (cr < crLimit);
@@ -371,8 +381,8 @@ void OcclusionBuffer2D::draw(const Shape<2>& shape, double shrink) {
                 dMax = std::max(dMax, d);
             }
             const double x = binCoord(r);
-            x0 = x + dMin - 1e-9;
-            x1 = x + dMax + 1e-9;
+            x0 = x + dMin - kAnglePad;
+            x1 = x + dMax + kAnglePad;
         }
     } else {
         boxExtent(lo + s, hi - s, x0, x1);

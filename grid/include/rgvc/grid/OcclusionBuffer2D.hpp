@@ -83,8 +83,11 @@
 //   - Depths carry a relative margin kRelMargin (1e-9) and an absolute one (1e-9 of the shape's scale), plus
 //     a term for the conditioning of near-parallel edges (8 ulp / |n.u|); the "passes through the interior"
 //     tests need room of the same size.
-//   - Angular extents are widened by 1e-10 rad and bin indices by 1e-6 bin on both sides; the rays'
-//     rounding is ~1e-16 rad.
+//   - Angles are computed by fastAtan2 (grid/internal/rgvc/grid/FastAtan2.hpp), within 1e-7 rad of the
+//     true ones; an extent's end sums at most three of them. Angular extents are widened by 1e-10 rad
+//     plus four such errors (4.001e-7 rad in all) and bin indices by 1e-6 bin on both sides; the rays'
+//     rounding is ~1e-16 rad. (Bins are at least 2 pi / 4096 = 1.5e-3 rad wide: the widening reaches a
+//     further bin for about one extent in 2,000.)
 //   - Occludees must be at a nearest distance above 1e-9 of their scale (else not hidden): the extent of a
 //     disc almost touching O is ill-conditioned.
 //   Callers shrink occluders and grow occludees by their conversion slack (GridGeometry) and the camera's
