@@ -829,10 +829,14 @@ TEST_CASE("cull --gl on obbs and hulls: every object the item buffer shows is in
 #endif
 
 TEST_CASE("a culler's dumped scene (writeSceneFile) replays with rgvc cull: the same PVS", "[cli]") {
-    // A game's frame: buildings, a glass pane, movers, culled; dumped for a bug report; replayed.
+    // A game's frame: buildings, a glass pane, movers, culled; dumped for a bug report; replayed. The
+    // game's second frame holds movers in TBVs, which the replay (a frame 0) tests as objects. Both walk
+    // with the occlusion image on every frame (adaptiveImage off, --image-every-frame): with it on, the
+    // game's second frame may walk without the image (its schedule follows the first frame) while the
+    // replay's first frame walks with it, and the two conservative answers may differ.
     using namespace rgvc;
     const GridGeometry3 grid({0, 0, 0}, 1.0, {48, 24, 48});
-    Culler3D culler(grid);
+    Culler3D culler(grid, CullerOptions{.adaptiveImage = false});
     ObjectId id = 1;
     for (int b = 0; b < 6; ++b) {
         const double x = 4 + 7 * b;
@@ -853,7 +857,7 @@ TEST_CASE("a culler's dumped scene (writeSceneFile) replays with rgvc cull: the 
     const std::vector<ObjectId> pvs = culler.cull(cam).pvs;
     const std::string path = (tempDir() / "dumped-frame.json").string();
     writeSceneFile<3>(path, culler, cam);
-    const Run r = runRgvc("cull " + quote(path));
+    const Run r = runRgvc("cull " + quote(path) + " --image-every-frame");
     INFO("stderr: " << r.err);
     REQUIRE(r.status == 0);
     const json line = json::parse(r.out.substr(0, r.out.find('\n')));

@@ -277,13 +277,21 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
     // (a ball's, or its bounding box's: the tests below are for that box).
     {
         const Box<3> b = boundsOf<3>(shape);
-        if (!canHide(0.5 * (b.min + b.max) - m_apex)) return false;
+        std::size_t centrePixel = std::size_t(-1);
+        if (!canHide(0.5 * (b.min + b.max) - m_apex, centrePixel)) return false;
         if (const auto* ball = std::get_if<Ball<3>>(&shape)) {
             const Vec3 c = ball->center - m_apex;
             const double r = (ball->radius + grow) * (1 - 1e-6), len = std::sqrt(lengthSquared<3>(c));
             if (len > r && !canHide(c * (1 - r / len))) return false;
         } else if (!canHide(glm::clamp(Vec3(0.0), b.min - grow - m_apex, b.max + grow - m_apex))) {
             return false;
+        }
+        // Both witnesses behind some occluder: the box occluder at the centre may prove it at once, in
+        // object space (a ball by its bounding box, which holds it).
+        if (shadowed(b.min - grow - m_apex, b.max + grow - m_apex, centrePixel)) {
+            ++m_stats.hidden;
+            ++m_stats.shadowed;
+            return true;
         }
     }
     Footprint f;
@@ -560,14 +568,61 @@ bool OcclusionBuffer3D::hiddenBoxExact(const Vec3& lo, const Vec3& hi, double ne
     return hiddenAll;
 }
 
-bool OcclusionBuffer3D::canHide(const Vec3& p) const {
+bool OcclusionBuffer3D::shadowed(const Vec3& lo, const Vec3& hi, std::size_t pixel) const {
+    // Why. The image compares each pixel's depth (the largest entry over its corner rays) with an
+    // occludee's nearest point; a wall seen at a grazing angle spans a long stretch of depths within one
+    // pixel, so a box just behind it (a brick's voxels beyond a room's wall, an object behind a building)
+    // fails there and goes down the refinement, and at last to single voxels. Here the box is tested
+    // against one occluder box W in object space, exactly, whatever the pixels.
+    // The shadow. With the apex at the origin, S = {p : the open segment (0, p) meets int W}. S is convex:
+    // p1 = s1 w1 and p2 = s2 w2 (w1, w2 in int W, s1, s2 >= 1, as every point of S is) give
+    // l p1 + (1 - l) p2 = s w with s = l s1 + (1 - l) s2 >= 1 and w = (l s1 w1 + (1 - l) s2 w2) / s, a convex
+    // combination of w1 and w2, in int W. So the box lies in S when its eight corners do: for each, the
+    // slab intervals of t q along the segment (t in (0, 1)) inside W's open slabs overlap, with the apex
+    // outside W (the entry tEnter > 0). The margin (1e-9 of the segment) covers the quotients' rounding;
+    // W is the box as drawn (shrunk by its slack) and lo..hi the occludee as tested (grown by its own):
+    // the same conventions as the image's depths, so the proof means what hidden() promises.
+    // An occluder never hides a box holding it: the box's point nearest to the apex would be s w with
+    // s >= 1 and w in int W, inside the box: w is then nearer (s > 1) or the point is interior (s = 1).
+    // The candidate W: the box that set the depth of the centre's pixel (when its image is large: a box
+    // with a smaller image than the occludee's cannot shadow it). Any box would do (the proof does not
+    // depend on the pixel); that one is the likeliest.
+    if (pixel >= m_depthBox.size()) return false;
+    const std::uint32_t note = m_depthBox[pixel], id = note & 0xFFFFu;
+    if (note >> 16 != m_boxStamp || id == 0 || !allFinite<3>(lo) || !allFinite<3>(hi)) return false;
+    const SeamBox& w = m_seamBoxes[id - 1];
+    constexpr double kMargin = 1e-9;
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 q{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+        double tEnter = -kInf, tExit = kInf;
+        for (int a = 0; a < 3; ++a) {
+            if (q[a] == 0) { // the segment runs in the plane q[a] = 0: inside the slab or never
+                if (!(w.lo[a] < 0 && w.hi[a] > 0)) return false;
+                continue;
+            }
+            const double t1 = w.lo[a] / q[a], t2 = w.hi[a] / q[a];
+            tEnter = std::max(tEnter, std::min(t1, t2));
+            tExit = std::min(tExit, std::max(t1, t2));
+        }
+        if (!(tEnter > 0) || !(std::min(tExit, 1.0) - tEnter > kMargin)) return false;
+    }
+    return true;
+}
+
+bool OcclusionBuffer3D::canHide(const Vec3& p, std::size_t& pixel) const {
     const double z = glm::dot(p, m_forward);
     if (!(z > 0)) return true;
     const double x = glm::dot(p, m_right) / z, y = glm::dot(p, m_up) / z;
     if (!(std::abs(x) < m_halfW) || !(std::abs(y) < m_halfH)) return true; // not in the image: no verdict
     const int i = std::min(m_cols - 1, int((x + m_halfW) / m_pixelW));
     const int j = std::min(m_rows - 1, int((y + m_halfH) / m_pixelH));
-    return m_depth[std::size_t(j) * std::size_t(m_cols) + std::size_t(i)] < std::sqrt(lengthSquared<3>(p)) * (1 - kRelMargin);
+    pixel = std::size_t(j) * std::size_t(m_cols) + std::size_t(i);
+    return m_depth[pixel] < std::sqrt(lengthSquared<3>(p)) * (1 - kRelMargin);
+}
+
+bool OcclusionBuffer3D::canHide(const Vec3& p) const {
+    std::size_t pixel;
+    return canHide(p, pixel);
 }
 
 ImageFootprint3D::Rect OcclusionBuffer3D::pixelRect(const Shape<3>& shape, double grow) const {

@@ -61,6 +61,7 @@ struct OcclusionBufferStats {
     std::uint32_t hidden = 0;         ///< of those, answered true
     std::uint64_t pixelsCovered = 0;  ///< pixels an occluder covered (depth lowered or not)
     std::uint64_t pixelsFused = 0;    ///< pixels covered only by the union of two or three boxes (seams)
+    std::uint32_t shadowed = 0;       ///< of the hidden, proved by a box occluder's shadow (hidden())
 };
 
 /// The image of a box seen by an OcclusionBuffer3D: a convex polygon in image coordinates (counter-
@@ -212,6 +213,8 @@ private:
     double zMinOf(double nearest) const;
     bool scanFootprint(const Footprint& f, double nearest) const;
     bool canHide(const Vec3& p) const;
+    /// As canHide; `pixel` gets the index of p's pixel when it has one (else it is left as it was).
+    bool canHide(const Vec3& p, std::size_t& pixel) const;
     /// The exact per-pixel test of a sphere (apex-relative centre, grown radius) wholly in front of the
     /// camera: every pixel showing part of it covered nearer than that part (OcclusionTests3D.cpp).
     bool hiddenBall(const Vec3& c, double radius, double nearest);
@@ -234,7 +237,17 @@ private:
     std::vector<double> m_planeC;
     template <class FillRow, class OnPartial>
     /// nearest: a lower bound of every entry distance fillRow writes (rows that cannot be lowered are skipped).
-    void drawRect(const PixelRect& r, double nearest, FillRow&& fillRow, OnPartial&& onPartial, bool partials = false);
+    /// box: the seam box index + 1 of the occluder (0: none), written to m_depthBox where it sets the depth.
+    void drawRect(const PixelRect& r, double nearest, FillRow&& fillRow, OnPartial&& onPartial, bool partials = false,
+                  std::uint32_t box = 0);
+    /// Whether the open segment from the apex to every point of the box lo..hi (apex-relative) meets the
+    /// interior of the box occluder that set the depth of the pixel showing the box's centre (m_depthBox):
+    /// an object-space proof that the box is hidden, exact where the image's pixels are coarse (a wall seen
+    /// at a grazing angle). OcclusionTests3D.cpp derives it.
+    /// pixel: the index of that pixel (row-major), as canHide found it.
+    bool shadowed(const Vec3& lo, const Vec3& hi, std::size_t pixel) const;
+    /// Boxes whose image spans fewer pixels are not noted in m_depthBox (shadowed()'s candidates).
+    static constexpr double kMinShadowPixels = 16;
 
     // Seam fusion (OcclusionSeams3D.cpp): boxes drawn this frame with their image polygons, and per pixel
     // the first two boxes that covered only part of it.
@@ -245,6 +258,10 @@ private:
     std::vector<SeamBox> m_seamBoxes;
     std::vector<std::uint32_t> m_partial; // per pixel: 16-bit box index + 1, twice (0: none)
     std::vector<std::uint8_t> m_partialCorners; // per pixel: the corner rays each of those boxes holds (4 bits each)
+    // Per pixel: the seam box index + 1 (low 16 bits) of the box that last set its depth, under the stamp
+    // of the image (high 16 bits; another stamp: none).
+    std::vector<std::uint32_t> m_depthBox;
+    std::uint32_t m_boxStamp = 0;
 
     Vec3 m_apex{0.0}, m_forward{0.0}, m_right{0.0}, m_up{0.0};
     double m_halfW = 0, m_halfH = 0, m_pixelW = 0, m_pixelH = 0;
