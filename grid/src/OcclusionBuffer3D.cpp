@@ -78,6 +78,9 @@ void OcclusionBuffer3D::startImage() {
     // A pixel's corner bits are read only after its slot is set, which writes them: sized, not cleared.
     m_partialCorners.resize(std::size_t(m_rows) * std::size_t(m_cols));
     m_seamBoxes.clear();
+    m_shadowPolytopes.clear();
+    m_shadowN.clear();
+    m_shadowC.clear();
     if (m_latticeW != m_halfW || m_latticeH != m_halfH || m_cornerX.size() != std::size_t(m_cols + 1) ||
         m_cornerY.size() != std::size_t(m_rows + 1)) {
         m_cornerX.resize(std::size_t(m_cols + 1));
@@ -319,7 +322,8 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
     // The box is noted in m_depthBox (shadowed()'s candidates) when its image is large: a box hides
     // another in object space only when its image holds the other's, and the notes cost a store per
     // pixel (noting the clusters' small boxes too cost 1.6 % of their instructions, for 1.2 % of |PVS|).
-    const std::uint32_t shadowBox = seam != 0 && m_seamBoxes[seam - 1].area >= kMinShadowPixels * m_pixelW * m_pixelH ? seam : 0;
+    const std::uint32_t shadowBox =
+        seam != 0 && seam < kPolytopeNote && m_seamBoxes[seam - 1].area >= kMinShadowPixels * m_pixelW * m_pixelH ? seam : 0;
     // Every entry written is at least the box's nearest distance (drawRect's row skip).
     const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), lo, hi))) * (1 - 1e-6);
     auto onPartial = [&](int i, int j, unsigned corners) { notePartial(i, j, seam, corners); };
@@ -392,7 +396,18 @@ void OcclusionBuffer3D::drawPolytope(const ConvexPolytope& p, double shrink) {
     const double* offsets = m_planeC.data();
     // Every entry written is at least the nearest distance of the bounding box (drawRect's row skip).
     const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), lo, hi))) * (1 - 1e-6);
-    drawRect(rectOf(lo, hi), nearest, [&](int j, int i0, int i1, double* out) {
+    const PixelRect rect = rectOf(lo, hi);
+    // A polytope whose bounding box's image spans kMinShadowPixels or more is kept for shadowed(), with
+    // the planes it is drawn with, and noted where it sets the depth (as large boxes are).
+    std::uint32_t note = 0;
+    if (double(rect.i1 - rect.i0 + 1) * double(rect.j1 - rect.j0 + 1) >= kMinShadowPixels &&
+        m_shadowPolytopes.size() + 1 < kPolytopeNote) {
+        m_shadowPolytopes.push_back({std::uint32_t(m_shadowN.size()), std::uint32_t(np)});
+        m_shadowN.insert(m_shadowN.end(), m_planeN.begin(), m_planeN.end());
+        m_shadowC.insert(m_shadowC.end(), m_planeC.begin(), m_planeC.end());
+        note = kPolytopeNote | std::uint32_t(m_shadowPolytopes.size());
+    }
+    drawRect(rect, nearest, [&](int j, int i0, int i1, double* out) {
         const double y = m_cornerY[std::size_t(j)];
         const Vec3 b = m_forward + y * m_up;
         const double* inv = m_invLen.data() + std::size_t(j) * std::size_t(m_cols + 1);
@@ -409,7 +424,7 @@ void OcclusionBuffer3D::drawPolytope(const ConvexPolytope& p, double shrink) {
             ok = ok && e > 0 && f - e > m * f + 1e-300;
             out[i] = ok ? (e / inv[i]) * (1 + m) + pad : -1.0;
         }
-    }, nullptr);
+    }, nullptr, false, note);
 }
 
 } // namespace rgvc

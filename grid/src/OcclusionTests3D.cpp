@@ -584,14 +584,35 @@ bool OcclusionBuffer3D::shadowed(const Vec3& lo, const Vec3& hi, std::size_t pix
     // the same conventions as the image's depths, so the proof means what hidden() promises.
     // An occluder never hides a box holding it: the box's point nearest to the apex would be s w with
     // s >= 1 and w in int W, inside the box: w is then nearer (s > 1) or the point is interior (s = 1).
-    // The candidate W: the box that set the depth of the centre's pixel (when its image is large: a box
-    // with a smaller image than the occludee's cannot shadow it). Any box would do (the proof does not
-    // depend on the pixel); that one is the likeliest.
+    // The same holds for any convex W: a polytope's planes take the slabs' place.
+    // The candidate W: the box or polytope that set the depth of the centre's pixel (when its image is
+    // large: an occluder with a smaller image than the occludee's cannot shadow it). Any would do (the
+    // proof does not depend on the pixel); that one is the likeliest.
     if (pixel >= m_depthBox.size()) return false;
     const std::uint32_t note = m_depthBox[pixel], id = note & 0xFFFFu;
     if (note >> 16 != m_boxStamp || id == 0 || !allFinite<3>(lo) || !allFinite<3>(hi)) return false;
-    const SeamBox& w = m_seamBoxes[id - 1];
     constexpr double kMargin = 1e-9;
+    if (id & kPolytopeNote) {
+        // A polytope: the same with its planes n.x < c (as drawn: moved in by its tolerance and shrink).
+        // Along t q a plane bounds t above where n.q > 0 and below where n.q < 0; where n.q = 0 the
+        // segment lies on the inner side (c > 0) or never enters.
+        const ShadowPolytope& w = m_shadowPolytopes[(id & ~kPolytopeNote) - 1];
+        const Vec3* normals = m_shadowN.data() + w.first;
+        const double* offsets = m_shadowC.data() + w.first;
+        for (int k = 0; k < 8; ++k) {
+            const Vec3 q{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+            double tEnter = -kInf, tExit = kInf;
+            for (std::uint32_t e = 0; e < w.count; ++e) {
+                const double d = glm::dot(normals[e], q), c = offsets[e];
+                if (d > 0) tExit = std::min(tExit, c / d);
+                else if (d < 0) tEnter = std::max(tEnter, c / d);
+                else if (!(c > 0)) return false;
+            }
+            if (!(tEnter > 0) || !(std::min(tExit, 1.0) - tEnter > kMargin)) return false;
+        }
+        return true;
+    }
+    const SeamBox& w = m_seamBoxes[id - 1];
     for (int k = 0; k < 8; ++k) {
         const Vec3 q{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
         double tEnter = -kInf, tExit = kInf;
