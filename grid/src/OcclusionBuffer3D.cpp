@@ -68,12 +68,12 @@ void OcclusionBuffer3D::startImage() {
     m_pixelW = 2 * m_halfW / m_cols;
     m_pixelH = 2 * m_halfH / m_rows;
     m_partial.assign(std::size_t(m_rows) * std::size_t(m_cols), 0);
-    // m_depthBox is cleared by its stamp (a memset per image was a third of what the notes cost the
+    // m_depthNote is cleared by its stamp (a memset per image was a third of what the notes cost the
     // 3D city): entries of earlier images carry an older stamp. 0 is never a live stamp.
-    m_depthBox.resize(std::size_t(m_rows) * std::size_t(m_cols));
-    if (++m_boxStamp > 0xFFFFu) {
-        std::fill(m_depthBox.begin(), m_depthBox.end(), 0);
-        m_boxStamp = 1;
+    m_depthNote.resize(std::size_t(m_rows) * std::size_t(m_cols));
+    if (++m_noteStamp > 0xFFFFu) {
+        std::fill(m_depthNote.begin(), m_depthNote.end(), 0);
+        m_noteStamp = 1;
     }
     // A pixel's corner bits are read only after its slot is set, which writes them: sized, not cleared.
     m_partialCorners.resize(std::size_t(m_rows) * std::size_t(m_cols));
@@ -179,7 +179,7 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec
 
 template <class FillRow, class OnPartial>
 void OcclusionBuffer3D::drawRect(const PixelRect& whole, double nearest, FillRow&& fillRow, OnPartial&& onPartial, bool partials,
-                                  std::uint32_t box) {
+                                  std::uint32_t note) {
     const PixelRect r{std::max(whole.i0, m_clip.i0), std::min(whole.i1, m_clip.i1), std::max(whole.j0, m_clip.j0),
                       std::min(whole.j1, m_clip.j1)};
     if (r.i0 > r.i1 || r.j0 > r.j1) return;
@@ -201,7 +201,7 @@ void OcclusionBuffer3D::drawRect(const PixelRect& whole, double nearest, FillRow
         inA = j + 1;
         const double* a = m_rowA.data();
         const double* b = m_rowB.data();
-        if (box == 0) {
+        if (note == 0) {
             for (int i = r.i0; i <= r.i1; ++i) { // branch-free: vectorized
                 const double e = std::max(std::max(a[i], a[i + 1]), std::max(b[i], b[i + 1]));
                 const double lo = std::min(std::min(a[i], a[i + 1]), std::min(b[i], b[i + 1]));
@@ -211,16 +211,16 @@ void OcclusionBuffer3D::drawRect(const PixelRect& whole, double nearest, FillRow
                 row[i] = in ? m : row[i];
             }
         } else {
-            // The same, noting the box where it sets the depth (shadowed() takes it as the candidate).
-            std::uint32_t* ids = m_depthBox.data() + std::size_t(j) * std::size_t(m_cols);
-            const std::uint32_t tag = m_boxStamp << 16 | box;
+            // The same, noting the occluder where it sets the depth (shadowed() takes it as the candidate).
+            std::uint32_t* notes = m_depthNote.data() + std::size_t(j) * std::size_t(m_cols);
+            const std::uint32_t tag = m_noteStamp << 16 | note;
             for (int i = r.i0; i <= r.i1; ++i) {
                 const double e = std::max(std::max(a[i], a[i + 1]), std::max(b[i], b[i + 1]));
                 const double lo = std::min(std::min(a[i], a[i + 1]), std::min(b[i], b[i + 1]));
                 const bool set = (lo >= 0) & (e <= row[i]);
                 covered += lo >= 0;
                 row[i] = set ? e : row[i];
-                ids[i] = set ? tag : ids[i];
+                notes[i] = set ? tag : notes[i];
             }
         }
         if constexpr (!std::is_same_v<std::decay_t<OnPartial>, std::nullptr_t>)
@@ -319,10 +319,10 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
     bool smallImage = false;
     const PixelRect rect = rectOf(lo, hi, &smallImage);
     const std::uint32_t seam = smallImage ? 0 : addSeamBox(lo, hi);
-    // The box is noted in m_depthBox (shadowed()'s candidates) when its image is large: a box hides
+    // The box is noted in m_depthNote (shadowed()'s candidates) when its image is large: a box hides
     // another in object space only when its image holds the other's, and the notes cost a store per
     // pixel (noting the clusters' small boxes too cost 1.6 % of their instructions, for 1.2 % of |PVS|).
-    const std::uint32_t shadowBox =
+    const std::uint32_t shadowNote =
         seam != 0 && seam < kPolytopeNote && m_seamBoxes[seam - 1].area >= kMinShadowPixels * m_pixelW * m_pixelH ? seam : 0;
     // Every entry written is at least the box's nearest distance (drawRect's row skip).
     const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), lo, hi))) * (1 - 1e-6);
@@ -332,7 +332,7 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
     if (onPlane) {
         drawRect(rect, nearest, [&](int j, int i0, int i1, double* out) {
             for (int i = i0; i <= i1; ++i) out[i] = entry(i, j);
-        }, onPartial, seam != 0, shadowBox);
+        }, onPartial, seam != 0, shadowNote);
         return;
     }
     // The same slab test as `entry`, branch-free so that the compiler vectorizes the row (the box draw
@@ -362,7 +362,7 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
             const double t = (e * len[i]) * (1 + m) + pad;
             out[i] = ok ? t : -1.0;
         }
-    }, onPartial, seam != 0, shadowBox);
+    }, onPartial, seam != 0, shadowNote);
 }
 
 void OcclusionBuffer3D::drawPolytope(const ConvexPolytope& p, double shrink) {

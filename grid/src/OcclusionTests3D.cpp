@@ -588,34 +588,41 @@ bool OcclusionBuffer3D::shadowed(const Vec3& lo, const Vec3& hi, std::size_t pix
     // The candidate W: the box or polytope that set the depth of the centre's pixel (when its image is
     // large: an occluder with a smaller image than the occludee's cannot shadow it). Any would do (the
     // proof does not depend on the pixel); that one is the likeliest.
-    if (pixel >= m_depthBox.size()) return false;
-    const std::uint32_t note = m_depthBox[pixel], id = note & 0xFFFFu;
-    if (note >> 16 != m_boxStamp || id == 0 || !allFinite<3>(lo) || !allFinite<3>(hi)) return false;
+    if (pixel >= m_depthNote.size()) return false;
+    const std::uint32_t note = m_depthNote[pixel], id = note & 0xFFFFu;
+    if (note >> 16 != m_noteStamp || id == 0 || !allFinite<3>(lo) || !allFinite<3>(hi)) return false;
+    // Every corner's segment t q, t in (0, 1), enters W (tEnter > 0: the apex is outside it) and stays in
+    // it for more than the margin before q; clip(q, tEnter, tExit) narrows [tEnter, tExit] to W's
+    // interval along it, false when the segment never enters.
     constexpr double kMargin = 1e-9;
-    if (id & kPolytopeNote) {
-        // A polytope: the same with its planes n.x < c (as drawn: moved in by its tolerance and shrink).
-        // Along t q a plane bounds t above where n.q > 0 and below where n.q < 0; where n.q = 0 the
-        // segment lies on the inner side (c > 0) or never enters.
-        const ShadowPolytope& w = m_shadowPolytopes[(id & ~kPolytopeNote) - 1];
-        const Vec3* normals = m_shadowN.data() + w.first;
-        const double* offsets = m_shadowC.data() + w.first;
+    auto allCorners = [&](auto&& clip) {
         for (int k = 0; k < 8; ++k) {
             const Vec3 q{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
             double tEnter = -kInf, tExit = kInf;
+            if (!clip(q, tEnter, tExit) || !(tEnter > 0) || !(std::min(tExit, 1.0) - tEnter > kMargin)) return false;
+        }
+        return true;
+    };
+    if (id & kPolytopeNote) {
+        // A polytope: its planes n.x < c (as drawn: moved in by its tolerance and shrink). Along t q a
+        // plane bounds t above where n.q > 0 and below where n.q < 0; where n.q = 0 the segment lies on
+        // the inner side (c > 0) or never enters.
+        const ShadowPolytope& w = m_shadowPolytopes[(id & ~kPolytopeNote) - 1];
+        const Vec3* normals = m_shadowN.data() + w.first;
+        const double* offsets = m_shadowC.data() + w.first;
+        return allCorners([&](const Vec3& q, double& tEnter, double& tExit) {
             for (std::uint32_t e = 0; e < w.count; ++e) {
                 const double d = glm::dot(normals[e], q), c = offsets[e];
                 if (d > 0) tExit = std::min(tExit, c / d);
                 else if (d < 0) tEnter = std::max(tEnter, c / d);
                 else if (!(c > 0)) return false;
             }
-            if (!(tEnter > 0) || !(std::min(tExit, 1.0) - tEnter > kMargin)) return false;
-        }
-        return true;
+            return true;
+        });
     }
+    // A box: its three open slabs.
     const SeamBox& w = m_seamBoxes[id - 1];
-    for (int k = 0; k < 8; ++k) {
-        const Vec3 q{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
-        double tEnter = -kInf, tExit = kInf;
+    return allCorners([&](const Vec3& q, double& tEnter, double& tExit) {
         for (int a = 0; a < 3; ++a) {
             if (q[a] == 0) { // the segment runs in the plane q[a] = 0: inside the slab or never
                 if (!(w.lo[a] < 0 && w.hi[a] > 0)) return false;
@@ -625,9 +632,8 @@ bool OcclusionBuffer3D::shadowed(const Vec3& lo, const Vec3& hi, std::size_t pix
             tEnter = std::max(tEnter, std::min(t1, t2));
             tExit = std::min(tExit, std::max(t1, t2));
         }
-        if (!(tEnter > 0) || !(std::min(tExit, 1.0) - tEnter > kMargin)) return false;
-    }
-    return true;
+        return true;
+    });
 }
 
 bool OcclusionBuffer3D::canHide(const Vec3& p, std::size_t& pixel) const {

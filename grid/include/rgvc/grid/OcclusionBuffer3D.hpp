@@ -237,16 +237,16 @@ private:
     std::vector<double> m_planeC;
     template <class FillRow, class OnPartial>
     /// nearest: a lower bound of every entry distance fillRow writes (rows that cannot be lowered are skipped).
-    /// box: the occluder's note (m_depthBox: 0 for none), written where it sets the depth.
+    /// note: the occluder's note (m_depthNote; 0: none), written where it sets the depth.
     void drawRect(const PixelRect& r, double nearest, FillRow&& fillRow, OnPartial&& onPartial, bool partials = false,
-                  std::uint32_t box = 0);
+                  std::uint32_t note = 0);
     /// Whether the open segment from the apex to every point of the box lo..hi (apex-relative) meets the
-    /// interior of the convex occluder (box or polytope) that set the depth of the pixel (m_depthBox):
+    /// interior of the convex occluder (box or polytope) that set the depth of the pixel (m_depthNote):
     /// an object-space proof that the box is hidden, exact where the image's pixels are coarse (a wall seen
     /// at a grazing angle). OcclusionTests3D.cpp derives it.
     /// pixel: the index of that pixel (row-major), as canHide found it.
     bool shadowed(const Vec3& lo, const Vec3& hi, std::size_t pixel) const;
-    /// Boxes and polytopes whose image spans fewer pixels are not noted in m_depthBox (shadowed()'s candidates).
+    /// Boxes and polytopes whose image spans fewer pixels are not noted in m_depthNote (shadowed()'s candidates).
     static constexpr double kMinShadowPixels = 16;
 
     // Seam fusion (OcclusionSeams3D.cpp): boxes drawn this frame with their image polygons, and per pixel
@@ -261,8 +261,8 @@ private:
     // Per pixel: the large convex occluder that last set its depth (low 16 bits: a seam box index + 1
     // below kPolytopeNote, kPolytopeNote | an m_shadowPolytopes index + 1 above; 0: none), under the stamp
     // of the image (high 16 bits; another stamp: none).
-    std::vector<std::uint32_t> m_depthBox;
-    std::uint32_t m_boxStamp = 0;
+    std::vector<std::uint32_t> m_depthNote;
+    std::uint32_t m_noteStamp = 0;
     static constexpr std::uint32_t kPolytopeNote = 0x8000;
     // Polytopes drawn this frame with a large image, for shadowed(): their planes (apex-relative, moved
     // in as drawn) in m_shadowN / m_shadowC from `first`.
