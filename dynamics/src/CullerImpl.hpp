@@ -46,6 +46,25 @@
 
 namespace rgvc {
 
+/// dst = src. std::variant's assignment dispatches on both alternatives through a visit (copy-assign,
+/// or destroy and construct) even for two balls: over a tenth of a placement query's instructions, and
+/// each mover is placed again once per TBV renewal (the 100k room). Balls and boxes, nearly every
+/// moving object, are copied as plain structs when dst already holds the same alternative.
+template <int D> inline void assignShape(Shape<D>& dst, const Shape<D>& src) {
+    if (const auto* b = std::get_if<Ball<D>>(&src)) {
+        if (auto* d = std::get_if<Ball<D>>(&dst)) {
+            *d = *b;
+            return;
+        }
+    } else if (const auto* x = std::get_if<Box<D>>(&src)) {
+        if (auto* d = std::get_if<Box<D>>(&dst)) {
+            *d = *x;
+            return;
+        }
+    }
+    dst = src;
+}
+
 template <int D> struct Culler<D>::Impl {
     using Traits = culler_detail::CullerTraits<D>;
 
@@ -68,6 +87,18 @@ template <int D> struct Culler<D>::Impl {
         const Shape<D>* occluder() const { return !occludes ? nullptr : inset ? &inner : &local; }
         double worldMagnitude = 0; // largest |coordinate| of the world-unit bounds
         bool outsideGrid = false;  // partly or wholly outside: also tested against the view region
+        /// *this = o, with balls and boxes copied as such (assignShape). `inner` is copied only where o
+        /// reads it (o.inset).
+        void assign(const Placement& o) {
+            assignShape<D>(world, o.world);
+            assignShape<D>(local, o.local);
+            if (o.inset) assignShape<D>(inner, o.inner);
+            localBounds = o.localBounds;
+            inset = o.inset;
+            occludes = o.occludes;
+            worldMagnitude = o.worldMagnitude;
+            outsideGrid = o.outsideGrid;
+        }
     };
 
     struct Record {
@@ -228,6 +259,9 @@ template <int D> struct Culler<D>::Impl {
     // ---- placements, rasterization and object states (ObjectTable.cpp) ------------------------------
 
     Placement makePlacement(const Shape<D>& world, double inset, ObjectRole role) const;
+    /// The same, written over p (fetch's scratch: a ball or box replaces a ball or box without a variant
+    /// visit).
+    void makePlacementInto(Placement& p, const Shape<D>& world, double inset, ObjectRole role) const;
     void rasterize(ObjectSlot slot, int sign);
     void buildFootprint(const Placement& p, RowFootprint& f) const;
     void markListed(const BrickBox<D>& box);

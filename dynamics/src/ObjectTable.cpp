@@ -13,12 +13,27 @@ namespace rgvc {
 
 template <int D> auto Culler<D>::Impl::makePlacement(const Shape<D>& world, double inset, ObjectRole role) const -> Placement {
     Placement p;
-    p.world = world;
+    makePlacementInto(p, world, inset, role);
+    return p;
+}
+
+template <int D>
+void Culler<D>::Impl::makePlacementInto(Placement& p, const Shape<D>& world, double inset, ObjectRole role) const {
+    assignShape<D>(p.world, world);
     const Box<D> wb = boundsOf<D>(world);
+    p.worldMagnitude = 0;
     for (int a = 0; a < D; ++a)
         p.worldMagnitude = std::max(p.worldMagnitude, std::max(std::abs(wb.min[a]), std::abs(wb.max[a])));
-    p.local = toLocal<D>(world, grid);
+    // toLocal's result copied in without a visit where both are balls or boxes (assignShape).
+    if (const auto* b = std::get_if<Ball<D>>(&world); b != nullptr && std::holds_alternative<Ball<D>>(p.local))
+        std::get<Ball<D>>(p.local) = Ball<D>{grid.toLocal(b->center), grid.toLocalLength(b->radius)};
+    else if (const auto* x = std::get_if<Box<D>>(&world); x != nullptr && std::holds_alternative<Box<D>>(p.local))
+        std::get<Box<D>>(p.local) = Box<D>{grid.toLocal(x->min), grid.toLocal(x->max)};
+    else
+        p.local = toLocal<D>(world, grid);
     p.localBounds = boundsOf<D>(p.local);
+    p.inset = false;
+    p.occludes = true;
     if (role == ObjectRole::Occludee) {
         p.inset = true; // no occluder model at all
         p.occludes = false;
@@ -27,7 +42,6 @@ template <int D> auto Culler<D>::Impl::makePlacement(const Shape<D>& world, doub
         p.occludes = insetShape<D>(p.local, grid.toLocalLength(inset), p.inner);
     }
     p.outsideGrid = extendsOutsideGrid<D>(p.local, grid.resolution());
-    return p;
 }
 
 /// Puts the object at its stored placement into I and O (sign > 0), or takes it out (sign < 0).
@@ -84,7 +98,7 @@ template <int D> void Culler<D>::Impl::moveRasterized(ObjectSlot slot, const Pla
             r.listedIn = box;
         }
     }
-    records[slot].at = p;
+    if (&p != &records[slot].at) records[slot].at.assign(p);
     syncOutside(slot);
 }
 
@@ -127,7 +141,7 @@ template <int D> void Culler<D>::Impl::detach(ObjectSlot slot) {
 }
 
 template <int D> void Culler<D>::Impl::adopt(ObjectSlot slot, const Placement& p) {
-    if (&p != &records[slot].at) records[slot].at = p;
+    if (&p != &records[slot].at) records[slot].at.assign(p);
 }
 
 template <int D> void Culler<D>::Impl::attachTracked(ObjectSlot slot, const Placement& p) {
@@ -168,7 +182,7 @@ template <int D> auto Culler<D>::Impl::fetch(ObjectSlot slot, CullStats& st) -> 
         } scope(inQuery);
         Shape<D> s = (*query)(r.id);
         validateShape<D>(s, [&] { return "object " + std::to_string(r.id) + ".shape"; });
-        fetched = makePlacement(s, r.inset, r.role);
+        makePlacementInto(fetched, s, r.inset, r.role);
     } catch (const InvalidInput& e) {
         if (invalidField.empty() && !queryException) {
             invalidField = e.field();
@@ -186,6 +200,7 @@ template <int D> auto Culler<D>::Impl::fetch(ObjectSlot slot, CullStats& st) -> 
 }
 
 template auto Culler<2>::Impl::makePlacement(const Shape<2>&, double, ObjectRole) const -> Placement;
+template void Culler<2>::Impl::makePlacementInto(Placement&, const Shape<2>&, double, ObjectRole) const;
 template void Culler<2>::Impl::rasterize(ObjectSlot, int);
 template void Culler<2>::Impl::buildFootprint(const Placement&, RowFootprint&) const;
 template void Culler<2>::Impl::moveRasterized(ObjectSlot, const Placement&);
@@ -198,6 +213,7 @@ template void Culler<2>::Impl::attachTracked(ObjectSlot, const Placement&);
 template void Culler<2>::Impl::attachHidden(ObjectSlot, const Placement&, const TbvRegion<2>&, std::uint64_t);
 template auto Culler<2>::Impl::fetch(ObjectSlot, CullStats&) -> const Placement*;
 template auto Culler<3>::Impl::makePlacement(const Shape<3>&, double, ObjectRole) const -> Placement;
+template void Culler<3>::Impl::makePlacementInto(Placement&, const Shape<3>&, double, ObjectRole) const;
 template void Culler<3>::Impl::rasterize(ObjectSlot, int);
 template void Culler<3>::Impl::buildFootprint(const Placement&, RowFootprint&) const;
 template void Culler<3>::Impl::markListed(const BrickBox<3>&);
