@@ -246,7 +246,7 @@ template <int D> struct Culler<D>::Impl {
     Impl(const GridGeometry<D>& g, const CullerOptions& o)
         : grid(g), options(o), storage(g), tbvs(g.resolution()), expiring(std::size_t(o.tbvMaxFrames) + 2),
           brickObjects(g.resolution()), idsInI(D == 2 || !o.hierarchical) {
-        if (options.tbvMaxGrowth == 0) options.tbvMaxGrowth = D == 2 ? 32.0 : 8.0;
+        if (options.tbvMaxGrowth == 0) options.tbvMaxGrowth = D == 2 ? 32.0 : o.hierarchical ? 4.0 : 8.0;
         // The storage's per-voxel arrays start as untouched zero pages (ZeroedArray.hpp). By default every
         // page is written now, so that none is first touched during a frame; CullerOptions::lazyStorage
         // leaves untouched what the walks do not reach in every brick (memory follows the content).

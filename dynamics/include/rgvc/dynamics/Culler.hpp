@@ -272,11 +272,12 @@ struct CullerOptions {
     /// get long validities, fast ones short. An object whose TBV is revealed while it stays hidden gets
     /// half the growth next time (down to 1/16), and back up after a validity unrevealed. 0 picks the
     /// measured default: 32 in 2D, where a renewal writes contiguous runs of a ring whose length grows
-    /// only linearly with the radius, so fewer, larger renewals win (README, "Dynamic scenes"), and 8 in
-    /// 3D, where larger cubes get revealed more often next to the view (measured with the projection-plane
-    /// T of an earlier version, whose writes grew linearly with the cube's side: growth 4 / 8 cost 34.5 / 27.7 ms per frame
-    /// with 100,000 hidden objects on rgvc_bench_dynamic hidden3d; growth 4 / 8 / 16 cost 10.0 / 10.7 /
-    /// 12.5 ms on rgvc_bench3d paper100 --tbv boundary, whose camera jumps several voxels a frame).
+    /// only linearly with the radius, so fewer, larger renewals win (README, "Dynamic scenes"); 4 in 3D
+    /// with `hierarchical`, where T writes a list node per 8^3 brick the cube's shell reaches, a number
+    /// that grows with the square of the side while renewals fall only linearly, and larger cubes are
+    /// revealed more often next to the view (README, "Scene classes": 5-14 % fewer instructions per
+    /// frame than 8 on the classes with movers, the 100k room 15-20 % faster); 8 in 3D without it (the
+    /// per-voxel core, last measured with the projection-plane T of an earlier version).
     double tbvMaxGrowth = 0;
     /// A promise from the application: a moving object that is entirely inside the grid never leaves it
     /// (the world's walls keep it in, as the scene format's motion does: it reflects at the grid bounds).
