@@ -55,10 +55,13 @@ bool OcclusionBuffer3D::beginRefined(const OcclusionBuffer3D& coarse, int factor
     // neighbouring fine pixel, which its test then reads too, and which inherits the neighbouring coarse
     // pixel's bound: the sliver is covered by the pixel it belongs to.
     m_depth.resize(std::size_t(m_rows) * std::size_t(m_cols));
-    for (int j = 0; j < m_rows; ++j) {
-        const double* src = coarse.m_depth.data() + std::size_t(j / factor) * std::size_t(coarse.m_cols);
-        double* dst = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
-        for (int i = 0; i < m_cols; ++i) dst[i] = src[i / factor];
+    // The first fine row of each coarse row is spread from it (no division per pixel, which was 3.6 %
+    // of the 3D city's instructions), the other factor - 1 rows copied from that one.
+    for (int cj = 0; cj < coarse.m_rows; ++cj) {
+        const double* src = coarse.m_depth.data() + std::size_t(cj) * std::size_t(coarse.m_cols);
+        double* first = m_depth.data() + std::size_t(cj) * std::size_t(factor) * std::size_t(m_cols);
+        for (int ci = 0; ci < coarse.m_cols; ++ci) std::fill_n(first + std::size_t(ci) * std::size_t(factor), factor, src[ci]);
+        for (int k = 1; k < factor; ++k) std::copy_n(first, m_cols, first + std::size_t(k) * std::size_t(m_cols));
     }
     startImage();
     return true;
