@@ -228,24 +228,54 @@ void OcclusionBuffer3D::drawRect(const PixelRect& whole, double nearest, FillRow
         }
         if constexpr (!std::is_same_v<std::decay_t<OnPartial>, std::nullptr_t>)
             if (partials) {
-                // Which corner rays pass through the interior: bit 0, 1 on row j, 2, 3 on j + 1. Computed
-                // branch-free into bytes (vectorized), then only the pixels with some but not all of them
-                // (the footprint's rim) are handed on, eight bytes at a time.
+                // The pixels with some but not all corner rays through the interior (the footprint's
+                // rim), handed on with their corner bits: 0, 1 on row j, 2, 3 on j + 1. The occluder is
+                // convex, so the directions through its interior are a convex cone, whose image meets a
+                // lattice row in one segment: the hits of row j are one run [la, ra] of lattice points,
+                // those of row j + 1 one run [lb, rb]. Corners of a pixel differ only where a run starts
+                // or ends: the pixels [min(la, lb) - 1, max(la, lb)] and [min(ra, rb) - 1, max(ra, rb)],
+                // or [l - 1, r] where the other row has none. The runs' ends are found from the rectangle's
+                // edges inward, so a wide wall costs a few pixels a row, not its width (the corner bytes
+                // of every pixel were 6 % of the 3D city's instructions). Rounding could break a run in
+                // two at a grazing corner ray; a pixel partial only through such a break is then not
+                // handed on, which only leaves it out of the seams' fused depths: less occlusion.
                 std::uint8_t* c = m_corners.data();
-                for (int i = r.i0; i <= r.i1; ++i)
-                    c[i] = std::uint8_t(std::uint8_t(a[i] >= 0) | std::uint8_t(a[i + 1] >= 0) << 1 |
-                                        std::uint8_t(b[i] >= 0) << 2 | std::uint8_t(b[i + 1] >= 0) << 3);
-                for (int i = r.i0; i <= r.i1; ++i) {
-                    if (i + 8 <= r.i1 + 1) {
-                        std::uint64_t w;
-                        std::memcpy(&w, c + i, 8);
-                        // All eight 0 or all eight 15: nothing partial among them.
-                        if (w == 0 || w == 0x0F0F0F0F0F0F0F0FULL) {
-                            i += 7;
-                            continue;
-                        }
+                auto span = [&](int from, int to) {
+                    from = std::max(from, r.i0);
+                    to = std::min(to, r.i1);
+                    for (int i = from; i <= to; ++i) // branch-free: vectorized
+                        c[i] = std::uint8_t(std::uint8_t(a[i] >= 0) | std::uint8_t(a[i + 1] >= 0) << 1 |
+                                            std::uint8_t(b[i] >= 0) << 2 | std::uint8_t(b[i + 1] >= 0) << 3);
+                    for (int i = from; i <= to; ++i)
+                        if (c[i] != 0 && c[i] != 15) onPartial(i, j, unsigned(c[i]));
+                    return to;
+                };
+                // A narrow rectangle (the small boxes of a cloud) is done whole: the scans cost more there.
+                constexpr int kNarrow = 24;
+                const int n0 = r.i0, n1 = r.i1 + 1; // lattice points of the rectangle's pixels
+                auto firstHit = [&](const double* v) {
+                    int k = n0;
+                    while (k <= n1 && !(v[k] >= 0)) ++k;
+                    return k;
+                };
+                auto lastHit = [&](const double* v, int from) {
+                    int k = n1;
+                    while (k > from && !(v[k] >= 0)) --k;
+                    return k;
+                };
+                if (r.i1 - r.i0 < kNarrow) {
+                    span(r.i0, r.i1);
+                } else {
+                    const int la = firstHit(a), lb = firstHit(b);
+                    const bool hitA = la <= n1, hitB = lb <= n1;
+                    if (hitA && hitB) {
+                        const int ra = lastHit(a, la), rb = lastHit(b, lb);
+                        const int end = span(std::min(la, lb) - 1, std::max(la, lb));
+                        span(std::max(std::min(ra, rb) - 1, end + 1), std::max(ra, rb));
+                    } else if (hitA || hitB) {
+                        const int l = hitA ? la : lb;
+                        span(l - 1, lastHit(hitA ? a : b, l));
                     }
-                    if (c[i] != 0 && c[i] != 15) onPartial(i, j, unsigned(c[i]));
                 }
             }
         std::swap(m_rowA, m_rowB);
