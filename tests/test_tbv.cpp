@@ -524,6 +524,11 @@ TEST_CASE("tbv: 3D bricks match a model through random inserts, erases and looku
                             REQUIRE(slots.size() == parts.size());
                             std::set<ObjectSlot> seen(slots.begin(), slots.end());
                             CHECK(seen.size() == slots.size());
+                            // brickBits (what the brick walk reads): exactly the voxels some live region
+                            // holds, a brick an erase left stale rebuilt first.
+                            std::uint64_t bits[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+                            const bool anyBits = t.brickBits({bx, by, bz}, bits);
+                            bool anyExpected = false;
                             for (std::int32_t z = 0; z < 8; ++z)
                                 for (std::int32_t y = 0; y < 8; ++y)
                                     for (std::int32_t x = 0; x < 8; ++x) {
@@ -531,12 +536,15 @@ TEST_CASE("tbv: 3D bricks match a model through random inserts, erases and looku
                                         const std::uint64_t bit = std::uint64_t(1) << (x + 8 * y);
                                         const bool inGrid = v.x < res.x && v.y < res.y && v.z < res.z;
                                         const std::vector<ObjectSlot> expected = inGrid ? model.holding(v) : std::vector<ObjectSlot>{};
+                                        anyExpected = anyExpected || !expected.empty();
+                                        ok = ok && (((bits[z] & bit) != 0) == !expected.empty());
                                         for (ObjectSlot e : expected) ok = ok && seen.count(e) == 1;
                                         for (std::size_t i = 0; i < slots.size(); ++i) {
                                             const bool want = std::find(expected.begin(), expected.end(), slots[i]) != expected.end();
                                             ok = ok && (((parts[i][std::size_t(z)] & bit) != 0) == want);
                                         }
                                     }
+                            ok = ok && anyBits == anyExpected;
                             if (!ok) INFO("brick (" << bx << ", " << by << ", " << bz << ")");
                             CHECK(ok);
                         }
