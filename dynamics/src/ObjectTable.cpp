@@ -24,7 +24,7 @@ void Culler<D>::Impl::makePlacementInto(Placement& p, const Shape<D>& world, dou
     p.worldMagnitude = 0;
     for (int a = 0; a < D; ++a)
         p.worldMagnitude = std::max(p.worldMagnitude, std::max(std::abs(wb.min[a]), std::abs(wb.max[a])));
-    // toLocal's result copied in without a visit where both are balls or boxes (assignShape).
+    // toLocal's result written over a ball or box of its kind as a plain struct, as assignShape does.
     if (const auto* b = std::get_if<Ball<D>>(&world); b != nullptr && std::holds_alternative<Ball<D>>(p.local))
         std::get<Ball<D>>(p.local) = Ball<D>{grid.toLocal(b->center), grid.toLocalLength(b->radius)};
     else if (const auto* x = std::get_if<Box<D>>(&world); x != nullptr && std::holds_alternative<Box<D>>(p.local))
