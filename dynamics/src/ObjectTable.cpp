@@ -26,9 +26,9 @@ void Culler<D>::Impl::makePlacementInto(Placement& p, const Shape<D>& world, dou
         p.worldMagnitude = std::max(p.worldMagnitude, std::max(std::abs(wb.min[a]), std::abs(wb.max[a])));
     // toLocal's result written over a ball or box of its kind as a plain struct, as assignShape does.
     if (const auto* b = std::get_if<Ball<D>>(&world); b != nullptr && std::holds_alternative<Ball<D>>(p.local))
-        std::get<Ball<D>>(p.local) = Ball<D>{grid.toLocal(b->center), grid.toLocalLength(b->radius)};
+        std::get<Ball<D>>(p.local) = toLocal<D>(*b, grid);
     else if (const auto* x = std::get_if<Box<D>>(&world); x != nullptr && std::holds_alternative<Box<D>>(p.local))
-        std::get<Box<D>>(p.local) = Box<D>{grid.toLocal(x->min), grid.toLocal(x->max)};
+        std::get<Box<D>>(p.local) = toLocal<D>(*x, grid);
     else
         p.local = toLocal<D>(world, grid);
     p.localBounds = boundsOf<D>(p.local);

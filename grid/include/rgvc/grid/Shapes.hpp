@@ -113,15 +113,21 @@ template <int D> inline Shape<D> translated(const Shape<D>& s, const Vec<D>& t) 
     return std::visit([&](const auto& x) -> Shape<D> { return translated(x, t); }, s);
 }
 
+/// Converts a world-unit ball or box to voxel units of `grid`.
+template <int D> inline Ball<D> toLocal(const Ball<D>& b, const GridGeometry<D>& grid) {
+    return {grid.toLocal(b.center), grid.toLocalLength(b.radius)};
+}
+template <int D> inline Box<D> toLocal(const Box<D>& b, const GridGeometry<D>& grid) {
+    return {grid.toLocal(b.min), grid.toLocal(b.max)};
+}
+
 /// Converts a world-unit shape to voxel units of `grid`.
 template <int D> inline Shape<D> toLocal(const Shape<D>& s, const GridGeometry<D>& grid) {
     return std::visit(
         [&](const auto& x) -> Shape<D> {
             using T = std::decay_t<decltype(x)>;
-            if constexpr (std::is_same_v<T, Ball<D>>) {
-                return Ball<D>{grid.toLocal(x.center), grid.toLocalLength(x.radius)};
-            } else if constexpr (std::is_same_v<T, Box<D>>) {
-                return Box<D>{grid.toLocal(x.min), grid.toLocal(x.max)};
+            if constexpr (std::is_same_v<T, Ball<D>> || std::is_same_v<T, Box<D>>) {
+                return toLocal<D>(x, grid);
             } else if constexpr (std::is_same_v<T, ConvexPolygon>) {
                 T r;
                 r.points.reserve(x.points.size());
