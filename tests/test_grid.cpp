@@ -5,6 +5,7 @@
 #include "rgvc/grid/Shapes.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
 #include "rgvc/grid/VoxelSize.hpp"
+#include "rgvc/grid/DistanceSort.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -645,4 +646,42 @@ TEST_CASE("oriented boxes: corners, planes, bounds, erosion moves every plane in
     const ConvexPolytope moved = translated(t, Vec3(1, 2, 3));
     CHECK(moved.boundsMin == Vec3(1, 2, 3));
     for (const HalfSpace& h : moved.planes) CHECK(glm::dot(h.normal, Vec3(1, 2, 3) + Vec3(0.5)) <= h.offset);
+}
+
+// The occlusion buffer's pass orders the PVS with sortByDistance and relies on it giving exactly
+// std::sort's order of the pairs (ties by index), so that draws, tests and the PVS match the comparison
+// sort's: checked on sizes across the small-input cut-off, with ties, negative zero, negative and huge
+// distances, keys that share their high bits (the skipped passes) and distances that agree in the
+// 32 bits the radix passes read (the insertion pass).
+TEST_CASE("sortByDistance gives std::sort's order of (distance, index) pairs", "[grid]") {
+    std::mt19937_64 rng(20261206);
+    std::vector<std::pair<double, std::uint32_t>> pairs, scratch, expect;
+    for (int trial = 0; trial < 400; ++trial) {
+        const std::size_t n = std::size_t(rng() % 3000);
+        const int kind = trial % 4;
+        pairs.clear();
+        std::uniform_real_distribution<double> uni(0.0, 150.0);
+        for (std::size_t i = 0; i < n; ++i) {
+            double d = uni(rng);
+            if (kind == 1) d = std::floor(d / 10.0);                         // many ties
+            if (kind == 2) d = (rng() % 5 == 0) ? -0.0 : d - 75.0;           // negative, -0.0 against 0.0
+            if (kind == 2 && rng() % 7 == 0) d = 0.0;
+            if (kind == 3) d = 64.0 + std::ldexp(double(rng() % 1024), -40 + int(rng() % 30)); // low bits
+            if (trial == 5 && i == 3) d = kInf;
+            if (trial == 9 && i == 7) d = 1e300;
+            pairs.push_back({d, std::uint32_t(i * 3 + 1)});                  // increasing, not contiguous
+        }
+        expect = pairs;
+        std::sort(expect.begin(), expect.end());
+        sortByDistance(pairs, scratch);
+        INFO("trial " << trial << ", n " << n << ", seed 20261206");
+        REQUIRE(pairs.size() == expect.size());
+        std::size_t wrong = 0;
+        for (std::size_t i = 0; i < n; ++i) wrong += pairs[i].second != expect[i].second;
+        REQUIRE(wrong == 0);
+    }
+    CHECK(distanceSortKey(-0.0) == distanceSortKey(0.0));
+    CHECK(distanceSortKey(-1.0) < distanceSortKey(-0.5));
+    CHECK(distanceSortKey(-kInf) < distanceSortKey(-1e300));
+    CHECK(distanceSortKey(1e300) < distanceSortKey(kInf));
 }

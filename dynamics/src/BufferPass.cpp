@@ -4,6 +4,8 @@
 // reported PVS shrinks (CullerOptions::occlusionBufferRows, occlusionBufferBins).
 #include "CullerImpl.hpp"
 
+#include "rgvc/grid/DistanceSort.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <variant>
@@ -57,7 +59,8 @@ void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, Cul
             shape.slack = slack;
             shape.slot = slot;
         }
-        std::sort(bufferOrder.begin(), bufferOrder.end());
+        // std::sort's order without its comparisons (DistanceSort.hpp: 8 % of the clusters' frame).
+        sortByDistance(bufferOrder, vs.bufferOrderScratch);
         // The occluders the walk drew are in the inherited image at its coarser resolution, whose depths
         // are a coarse pixel's largest entry: behind a wall seen at a grazing angle, or at a room's corner,
         // that can leave an object visible which the finer pixels would hide. Such an occluder is drawn

@@ -200,6 +200,7 @@ template <int D> struct Culler<D>::Impl {
         // The grid PVS's slots in the order added, and the occlusion buffer that refines it.
         std::vector<ObjectSlot> pvsSlots;
         std::vector<std::pair<double, std::uint32_t>> bufferOrder; // (nearest distance, index in bufferShapes)
+        std::vector<std::pair<double, std::uint32_t>> bufferOrderScratch; // sortByDistance's working memory
         std::vector<BufferShape> bufferShapes;
         std::vector<LazyOccluder> lazyOccluders;
         typename Traits::Buffer occlusionBuffer;
