@@ -393,8 +393,10 @@ TEST_CASE("tbv: 3D shell (2 of 3 projections) and filled box match brute force, 
                     }
                 }
         REQUIRE(ok);
-        for (int i = 0; i < k; ++i) written -= t.erase(ObjectSlot(i * 11 + 2), regions[std::size_t(i)], mode);
-        CHECK(written == 0);
+        // The lookups heated the blocks they read (their bricks' nodes came on top of the blocks' own).
+        std::size_t erased = 0;
+        for (int i = 0; i < k; ++i) erased += t.erase(ObjectSlot(i * 11 + 2), regions[std::size_t(i)], mode);
+        CHECK(erased >= written);
         CHECK(t.incidences() == 0);
         CHECK(t.liveRegions() == 0);
         CHECK_FALSE(t.holdsAt({0, 0, 0}));
@@ -402,17 +404,37 @@ TEST_CASE("tbv: 3D shell (2 of 3 projections) and filled box match brute force, 
     CHECK(shellVoxels > 10000); // the regions did reach the grids
 }
 
-TEST_CASE("tbv: 3D T writes one node per brick its discretization reaches", "[tbv]") {
+TEST_CASE("tbv: 3D T writes one node per cold block, and per brick its discretization reaches in hot ones", "[tbv]") {
     // Boundary and Filled cost one list node per 8^3 brick the shell (box) reaches, not per voxel or per
     // plane cell: the box [22, 42]^3 spans bricks 2..5 on each axis (64), and its shell misses the 8
-    // bricks 3..4 on every axis, which lie strictly inside it.
+    // bricks 3..4 on every axis, which lie strictly inside it. Where no lookup has gone yet (cold blocks
+    // of 2^3 bricks), one node per block the box meets: blocks 1..2 on each axis, 8.
     TbvMatrix<3> t({64, 64, 64});
     const TbvRegion<3> r{{32.5, 32.5, 32.5}, 9.9}; // voxel box [22, 42]^3: n = 21
     const std::size_t n = 21;
+    CHECK(t.insert(1, r, TbvDiscretization::Boundary) == 8);
+    CHECK(t.hotBlocks() == 0);
+    // A brick walk's lookup heats the brick's block only: block (1, 1, 1) holds bricks 2..3 on each axis,
+    // 7 of which the shell reaches (brick (3, 3, 3) is inside it).
+    std::uint64_t bits[8];
+    CHECK(t.brickBits({2, 2, 2}, bits));
+    CHECK(t.hotBlocks() == 1);
+    CHECK(t.incidences() == 8 + 7);
+    CHECK_FALSE(t.brickBits({3, 3, 3}, bits)); // hot now, and the shell misses it
+    CHECK(t.hotBlocks() == 1);
+    t.freshen(); // every block that holds a TBV
+    CHECK(t.hotBlocks() == 8);
+    CHECK(t.incidences() == 8 + 64 - 8);
+    CHECK(t.erase(1, r, TbvDiscretization::Boundary) == 8 + 64 - 8);
+    // Hot blocks: brick nodes only.
     CHECK(t.insert(1, r, TbvDiscretization::Boundary) == 64 - 8);
     CHECK(t.incidences() == 64 - 8);
     CHECK(t.erase(1, r, TbvDiscretization::Boundary) == 64 - 8);
+    CHECK(t.incidences() == 0);
     TbvMatrix<3> f({64, 64, 64});
+    CHECK(f.insert(1, r, TbvDiscretization::Filled) == 8);
+    f.freshen();
+    CHECK(f.erase(1, r, TbvDiscretization::Filled) == 8 + 64);
     CHECK(f.insert(1, r, TbvDiscretization::Filled) == 64);
     // Shell: the shell's voxels themselves, n^3 - (n - 2)^3.
     TbvMatrix<3> sh({64, 64, 64});
@@ -462,9 +484,11 @@ TEST_CASE("tbv: 3D bricks match a model through random inserts, erases and looku
         const IVec3 res{sr::uniformInt(rng, 1, 40), sr::uniformInt(rng, 1, 30), sr::uniformInt(rng, 1, 40)};
         INFO("seed " << seed << " iteration " << iter << " grid " << res.x << "x" << res.y << "x" << res.z);
         TbvMatrix<3> t(res);
+        // The same updates, asked only what the read-only lookups answer: its blocks stay cold, so they
+        // answer from the blocks' lists (TbvMatrix<3>, "Blocks written lazily") all through.
+        TbvMatrix<3> cold(res);
         Model3D model;
         std::vector<ObjectSlot> got;
-        std::size_t written = 0;
         const int ops = sr::uniformInt(rng, 10, 120);
         for (int op = 0; op < ops; ++op) {
             CAPTURE(op);
@@ -481,20 +505,22 @@ TEST_CASE("tbv: 3D bricks match a model through random inserts, erases and looku
                 e.mode = sr::chance(rng, 0.25) ? TbvDiscretization::Filled : TbvDiscretization::Boundary;
                 e.inGrid = tbvVoxelBox3D(e.region, res, e.lo, e.hi);
                 CAPTURE(e.slot, describe(e.region), int(e.mode));
-                written += t.insert(e.slot, e.region, e.mode);
+                t.insert(e.slot, e.region, e.mode);
+                cold.insert(e.slot, e.region, e.mode);
                 model.live.push_back(e);
             } else {
                 const std::size_t i = std::size_t(sr::uniformInt(rng, 0, int(model.live.size()) - 1));
                 const Model3D::Entry e = model.live[i];
-                written -= t.erase(e.slot, e.region, e.mode);
+                t.erase(e.slot, e.region, e.mode);
+                cold.erase(e.slot, e.region, e.mode);
                 model.live.erase(model.live.begin() + std::ptrdiff_t(i));
             }
-            CHECK(t.incidences() == written);
             CHECK(t.liveRegions() == model.live.size());
             auto check = [&](const IVec3& v) {
                 // holdsAt first: it must be exact on a stale brick too, before collectAt rebuilds it.
                 const std::vector<ObjectSlot> expected = model.holding(v);
                 const bool holds = t.holdsAt(v);
+                CHECK(cold.holdsAt(v) == !expected.empty());
                 got.clear();
                 t.collectAt(v, got);
                 std::sort(got.begin(), got.end());
@@ -520,10 +546,30 @@ TEST_CASE("tbv: 3D bricks match a model through random inserts, erases and looku
                 for (std::int32_t bz = 0; bz * 8 < res.z && ok; ++bz)
                     for (std::int32_t by = 0; by * 8 < res.y && ok; ++by)
                         for (std::int32_t bx = 0; bx * 8 < res.x && ok; ++bx) {
+                            // Read-only lookups first: a block no lookup has heated answers from its list.
                             t.brickParts({bx, by, bz}, slots, parts);
                             REQUIRE(slots.size() == parts.size());
                             std::set<ObjectSlot> seen(slots.begin(), slots.end());
                             CHECK(seen.size() == slots.size());
+                            const std::uint64_t all[8] = {~0ull, ~0ull, ~0ull, ~0ull, ~0ull, ~0ull, ~0ull, ~0ull};
+                            got.clear();
+                            t.collectInBrick({bx, by, bz}, all, got);
+                            CHECK(std::set<ObjectSlot>(got.begin(), got.end()) == seen); // each once, as brickParts
+                            CHECK(got.size() == seen.size());
+                            std::vector<ObjectSlot> coldSlots;
+                            std::vector<std::array<std::uint64_t, 8>> coldParts;
+                            cold.brickParts({bx, by, bz}, coldSlots, coldParts);
+                            std::vector<std::pair<ObjectSlot, std::array<std::uint64_t, 8>>> a, b;
+                            for (std::size_t i = 0; i < slots.size(); ++i) a.push_back({slots[i], parts[i]});
+                            for (std::size_t i = 0; i < coldSlots.size(); ++i) b.push_back({coldSlots[i], coldParts[i]});
+                            std::sort(a.begin(), a.end());
+                            std::sort(b.begin(), b.end());
+                            CHECK(a == b);
+                            got.clear();
+                            cold.collectInBrick({bx, by, bz}, all, got);
+                            CHECK(std::set<ObjectSlot>(got.begin(), got.end()) == seen);
+                            CHECK(got.size() == seen.size());
+                            if (!seen.empty()) CHECK(cold.mayHoldBrick({bx, by, bz}));
                             // brickBits (what the brick walk reads): exactly the voxels some live region
                             // holds, a brick an erase left stale rebuilt first.
                             std::uint64_t bits[8] = {0, 0, 0, 0, 0, 0, 0, 0};
@@ -554,8 +600,8 @@ TEST_CASE("tbv: 3D bricks match a model through random inserts, erases and looku
             }
             REQUIRE(ok);
         }
-        for (const auto& e : model.live) written -= t.erase(e.slot, e.region, e.mode);
-        CHECK(written == 0);
+        CHECK(cold.hotBlocks() == 0);
+        for (const auto& e : model.live) t.erase(e.slot, e.region, e.mode);
         CHECK(t.incidences() == 0);
         for (int q = 0; q < 100; ++q) {
             const IVec3 v{sr::uniformInt(rng, 0, res.x - 1), sr::uniformInt(rng, 0, res.y - 1), sr::uniformInt(rng, 0, res.z - 1)};

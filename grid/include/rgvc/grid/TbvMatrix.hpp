@@ -313,16 +313,34 @@ private:
 /// bricks), against 12 n = 240 plane cells; T's writes on rgvc_bench_dynamic hidden3d at 100,000 TBVs
 /// fell from 319,000 to 41,000 a frame. The stored *set* of voxels is the one the header argues about
 /// (the shell of the voxel box, or the box for Filled), whatever the storage.
+///
+/// Blocks written lazily. A brick's list and bitmap are read only when a lookup asks about the brick,
+/// and the brick walk asks only about bricks in view that its image does not hide: around a closed room
+/// with 100,000 movers outside (rgvc_bench_classes' room-100k), nearly every TBV lies where no lookup
+/// ever goes, and writing their bricks (a list node and a bitmap OR for each of the ~21 bricks a renewed
+/// TBV's shell reaches, 9,500 renewals a frame) was a third of the frame's instructions. So the bricks
+/// are grouped in blocks of 2 x 2 x 2 (16^3 voxels), and a block no lookup has asked about yet ("cold")
+/// keeps one list of the TBVs whose voxel box meets it instead: an insert writes one node per cold
+/// block its box meets (8 on average there) and brick nodes only in the blocks already asked about
+/// ("hot"). Blocks of 4^3 bricks measured the same. The first lookup that needs a cold
+/// block's bricks (brickBits, collectAt) writes its TBVs into its bricks, clipped to the block, and the
+/// block stays hot from then on; the read-only lookups (holdsAt, brickParts, collectInBrick,
+/// mayHoldBrick) answer a cold block from its list directly, testing each TBV against the brick or
+/// voxel, so every lookup returns what it did when every brick was written eagerly. A cold block's
+/// entries stay in the pool, unread, until their TBVs are erased.
 template <> class TbvMatrix<3> {
 public:
     static constexpr int kBrickShift = 3; // 8 x 8 x 8 voxels: a slice of a brick is one 64-bit word
 
+    static constexpr int kBlockShift = 1; // 2 x 2 x 2 bricks per block (lazily written, see above)
+
     explicit TbvMatrix(const IVec3& res)
         : m_res(res),
-          m_bricks{((res.x - 1) >> kBrickShift) + 1, ((res.y - 1) >> kBrickShift) + 1, ((res.z - 1) >> kBrickShift) + 1} {}
+          m_bricks{((res.x - 1) >> kBrickShift) + 1, ((res.y - 1) >> kBrickShift) + 1, ((res.z - 1) >> kBrickShift) + 1},
+          m_blocks{((m_bricks.x - 1) >> kBlockShift) + 1, ((m_bricks.y - 1) >> kBlockShift) + 1, ((m_bricks.z - 1) >> kBlockShift) + 1} {}
 
-    /// Adds the slot's region. Returns the T incidences written: brick list nodes (Boundary, Filled) or
-    /// voxel list nodes (Shell).
+    /// Adds the slot's region. Returns the T incidences written: brick list nodes and cold blocks' list
+    /// nodes (Boundary, Filled) or voxel list nodes (Shell).
     std::size_t insert(ObjectSlot slot, const TbvRegion<3>& r, TbvDiscretization mode) {
         if (slot >= m_boxes.size()) m_boxes.resize(std::size_t(slot) + 1);
         Stored& st = m_boxes[slot];
@@ -338,20 +356,55 @@ public:
             m_heads.assign(n, kNone);
             m_bits.assign(n * kSlices, 0);
             m_stale.assign(n, 0);
+            const std::size_t blocks = std::size_t(m_blocks.x) * std::size_t(m_blocks.y) * std::size_t(m_blocks.z);
+            m_blockHeads.assign(blocks, kNone);
+            m_blockHot.assign(blocks, 0);
         }
-        return forEachBrick(st, [&](std::size_t brick, const BrickPart& p) {
+        if (!st.inGrid) return 0;
+        // One node per cold block the box meets; brick nodes only in hot blocks.
+        std::size_t n = 0;
+        bool anyHot = false, anyCold = false;
+        const IVec3 klo = (st.lo >> kBrickShift) >> kBlockShift, khi = (st.hi >> kBrickShift) >> kBlockShift;
+        for (std::int32_t z = klo.z; z <= khi.z; ++z)
+            for (std::int32_t y = klo.y; y <= khi.y; ++y) {
+                const std::size_t row = blockIndex({0, y, z});
+                for (std::int32_t x = klo.x; x <= khi.x; ++x) {
+                    const std::size_t k = row + std::size_t(x);
+                    if (m_blockHot[k] != 0) {
+                        anyHot = true;
+                        continue;
+                    }
+                    anyCold = true;
+                    m_lists.add(m_blockHeads[k], slot);
+                    ++n;
+                }
+            }
+        if (!anyHot) return n;
+        auto write = [&](std::size_t brick, const BrickPart& p) {
             m_lists.add(m_heads[brick], slot);
             orPart(brick, p);
+        };
+        if (!anyCold) // all hot (where the camera has been): every brick, no test
+            return forEachBrick(st, IVec3(0), m_bricks - 1, [&](std::size_t brick, const IVec3&, const BrickPart& p) { write(brick, p); });
+        forEachBrick(st, IVec3(0), m_bricks - 1, [&](std::size_t brick, const IVec3& bc, const BrickPart& p) {
+            if (m_blockHot[blockOfBrick(bc)] == 0) return;
+            write(brick, p);
+            ++n;
         });
+        return n;
     }
     /// Removes the slot's region. Returns the incidences removed. Its bricks' bitmaps go stale (see above).
     std::size_t erase(ObjectSlot slot, const TbvRegion<3>& /*r*/, TbvDiscretization /*mode*/) {
         --m_live;
         const Stored& st = m_boxes[slot];
         if (st.mode == TbvDiscretization::Shell) return m_lists.eraseAll(slot);
-        // Each node of the slot sits in one brick's list: its head word says which (no brick parts).
+        // Each node of the slot sits in one brick's or one block's list: its head word says which (no
+        // brick parts). Its brick nodes make their bricks stale; its blocks' nodes need nothing.
         const std::uint32_t* heads = m_heads.data();
-        return m_lists.eraseAll(slot, [&](const std::uint32_t* head) { m_stale[std::size_t(head - heads)] = 1; });
+        const std::size_t bricks = m_heads.size();
+        return m_lists.eraseAll(slot, [&](const std::uint32_t* head) {
+            if (head >= heads && head < heads + bricks) m_stale[std::size_t(head - heads)] = 1;
+        });
     }
     /// Appends the slots whose discretization holds voxel v (in the grid), each once.
     ///
@@ -362,6 +415,7 @@ public:
         if (m_live == 0) return;
         if (!m_voxels.empty()) m_lists.forEach(m_voxels[voxel(v)], [&](ObjectSlot s) { out.push_back(s); });
         if (m_heads.empty()) return;
+        if (!warm(v >> kBrickShift)) return;
         const std::size_t brick = brickOf(v);
         // Most voxels the traversal asks about lie in bricks no TBV reaches: the heads (4 bytes per brick)
         // stay in L1, the bitmaps (a cache line per brick) do not.
@@ -379,9 +433,14 @@ public:
         if (m_live == 0) return false;
         if (!m_voxels.empty() && m_voxels[voxel(v)] != kNone) return true;
         if (m_heads.empty()) return false;
+        bool any = false;
+        const std::size_t block = blockOfBrick(v >> kBrickShift);
+        if (m_blockHot[block] == 0) { // a cold block: its list, each box tested
+            m_lists.forEach(m_blockHeads[block], [&](ObjectSlot s) { any = any || boxHolds(m_boxes[s], v); });
+            return any;
+        }
         const std::size_t brick = brickOf(v);
         if (m_heads[brick] == kNone || !bitAt(brick, v)) return false;
-        bool any = false;
         m_lists.forEach(m_heads[brick], [&](ObjectSlot s) { any = any || boxHolds(m_boxes[s], v); });
         return any;
     }
@@ -389,7 +448,11 @@ public:
     /// Rebuilds every stale brick now, so that collectAt and brickBits write nothing until the next
     /// erase: after it, lookups from several threads at once are safe (Culler::cullViews' view passes).
     /// Cost: one byte per brick, and each stale brick's list.
+    /// Cold blocks that hold TBVs are written into their bricks first (a view pass would otherwise write
+    /// them on its first lookup), so after it every block that holds a TBV is hot.
     void freshen() {
+        for (std::size_t block = 0; block < m_blockHot.size(); ++block)
+            if (m_blockHot[block] == 0 && m_blockHeads[block] != kNone) heat(block);
         for (std::size_t brick = 0; brick < m_stale.size(); ++brick)
             if (m_stale[brick] != 0) rebuild(brick);
     }
@@ -402,6 +465,7 @@ public:
     /// first). False when no TBV reaches the brick. Boundary and Filled only (hasBrickLists()).
     bool brickBits(const IVec3& b, std::uint64_t out[8]) {
         if (m_heads.empty()) return false;
+        if (!warm(b)) return false;
         const std::size_t brick = brickIndex(b);
         if (m_heads[brick] == kNone) return false;
         if (m_stale[brick] != 0) rebuild(brick);
@@ -414,9 +478,8 @@ public:
     /// Cost: the brick's list, one part (8 words at most) per entry.
     void collectInBrick(const IVec3& b, const std::uint64_t voxels[8], std::vector<ObjectSlot>& out) const {
         if (m_heads.empty()) return;
-        const std::size_t brick = brickIndex(b);
         BrickPart p;
-        m_lists.forEach(m_heads[brick], [&](ObjectSlot s) {
+        m_lists.forEach(listOf(b), [&](ObjectSlot s) {
             if (!brickPart(m_boxes[s], b, p)) return;
             for (std::int32_t z = p.z0; z <= p.z1; ++z)
                 if ((p.slice(z) & voxels[z]) != 0) {
@@ -436,7 +499,7 @@ public:
         parts.clear();
         if (m_heads.empty()) return;
         BrickPart p;
-        m_lists.forEach(m_heads[brickIndex(b)], [&](ObjectSlot s) {
+        m_lists.forEach(listOf(b), [&](ObjectSlot s) {
             if (!brickPart(m_boxes[s], b, p)) return;
             slots.push_back(s);
             std::array<std::uint64_t, 8>& w = parts.emplace_back();
@@ -454,8 +517,12 @@ public:
     bool mayHoldBrick(const IVec3& b) const {
         if (m_live == 0) return false;
         if (!m_voxels.empty()) return true;
-        return !m_heads.empty() && m_heads[brickIndex(b)] != kNone;
+        if (m_heads.empty()) return false;
+        const std::size_t block = blockOfBrick(b);
+        return m_blockHot[block] != 0 ? m_heads[brickIndex(b)] != kNone : m_blockHeads[block] != kNone;
     }
+    /// Blocks written into their bricks so far (see the class comment); for tests and statistics.
+    std::size_t hotBlocks() const { return std::size_t(std::count(m_blockHot.begin(), m_blockHot.end(), std::uint8_t(1))); }
 
 private:
     static constexpr std::size_t kSlices = std::size_t(1) << kBrickShift; // words per brick
@@ -553,14 +620,16 @@ private:
     /// same parts as brickPart gives, with what depends on one axis only computed once per brick along
     /// that axis (brickPart per brick was a third of an insert on rgvc_bench_classes' paper scene), and
     /// for Boundary the shell's hollow inside skipped: between the box's faces on y and z only the first
-    /// and the last brick along x hold shell voxels (those of its x faces).
-    template <class Fn> std::size_t forEachBrick(const Stored& b, Fn&& fn) const {
+    /// and the last brick along x hold shell voxels (those of its x faces). Only the bricks in
+    /// [clipLo, clipHi] (brick coordinates) are visited; fn gets the brick's index and coordinates.
+    template <class Fn> std::size_t forEachBrick(const Stored& b, const IVec3& clipLo, const IVec3& clipHi, Fn&& fn) const {
         if (!b.inGrid) return 0;
         std::size_t n = 0;
         BrickPart p;
         const bool filled = b.mode == TbvDiscretization::Filled;
         const IVec3 lo = b.lo >> kBrickShift, hi = b.hi >> kBrickShift;
-        for (std::int32_t bz = lo.z; bz <= hi.z; ++bz) {
+        const IVec3 from = glm::max(lo, clipLo), to = glm::min(hi, clipHi);
+        for (std::int32_t bz = from.z; bz <= to.z; ++bz) {
             const std::int32_t oz = bz << kBrickShift;
             const std::int32_t lz = std::max(b.lo.z, oz), hz = std::min(b.hi.z, oz + kBrickMask);
             p.z0 = lz - oz;
@@ -568,7 +637,7 @@ private:
             p.zFace0 = !filled && lz == b.lo.z ? p.z0 : -1;
             p.zFace1 = !filled && hz == b.hi.z ? p.z1 : -1;
             const bool zFace = p.zFace0 >= 0 || p.zFace1 >= 0;
-            for (std::int32_t by = lo.y; by <= hi.y; ++by) {
+            for (std::int32_t by = from.y; by <= to.y; ++by) {
                 const std::int32_t oy = by << kBrickShift;
                 const std::int32_t ly = std::max(b.lo.y, oy), hy = std::min(b.hi.y, oy + kBrickMask);
                 const std::uint64_t rows = rowStarts(ly - oy, hy - oy);
@@ -576,7 +645,8 @@ private:
                 // Boundary, strictly between the faces on y and z: only the x faces' bricks.
                 const bool hollow = !filled && !zFace && !yLo && !yHi;
                 const std::int32_t step = hollow ? std::max(1, hi.x - lo.x) : 1;
-                for (std::int32_t bx = lo.x; bx <= hi.x; bx += step) {
+                for (std::int32_t bx = hollow ? lo.x : from.x; bx <= to.x; bx += step) {
+                    if (bx < from.x) continue; // hollow: lo.x left of the clip, hi.x may be in it
                     const std::int32_t ox = bx << kBrickShift;
                     const std::int32_t lx = std::max(b.lo.x, ox), hx = std::min(b.hi.x, ox + kBrickMask);
                     // xs * rows copies the row's byte into each row (no carries: see brickPart).
@@ -592,12 +662,47 @@ private:
                         if (hx == b.hi.x) p.ring |= rows << (b.hi.x - ox);
                         if (p.ring == 0 && !zFace) continue;
                     }
-                    fn(brickIndex({bx, by, bz}), p);
+                    fn(brickIndex({bx, by, bz}), IVec3{bx, by, bz}, p);
                     ++n;
                 }
             }
         }
         return n;
+    }
+
+    std::size_t blockIndex(const IVec3& k) const {
+        return std::size_t(k.x) + std::size_t(m_blocks.x) * (std::size_t(k.y) + std::size_t(m_blocks.y) * std::size_t(k.z));
+    }
+    std::size_t blockOfBrick(const IVec3& bc) const { return blockIndex(bc >> kBlockShift); }
+    /// The list to read for brick bc: its own in a hot block, its block's in a cold one (a superset:
+    /// every TBV whose box meets the block; callers test each against the brick).
+    std::uint32_t listOf(const IVec3& bc) const {
+        const std::size_t block = blockOfBrick(bc);
+        return m_blockHot[block] != 0 ? m_heads[brickIndex(bc)] : m_blockHeads[block];
+    }
+    /// Makes brick bc's block hot if it is not; false when it is cold and holds no TBV (nothing written).
+    bool warm(const IVec3& bc) {
+        const std::size_t block = blockOfBrick(bc);
+        if (m_blockHot[block] != 0) return true;
+        if (m_blockHeads[block] == kNone) return false;
+        heat(block);
+        return true;
+    }
+    /// Writes a cold block's TBVs into its bricks (clipped to it) and marks it hot. Its list's nodes stay
+    /// in their slots' chains until erased; nothing reads them again.
+    void heat(std::size_t block) {
+        m_blockHot[block] = 1;
+        const std::size_t bx = block % std::size_t(m_blocks.x), rest = block / std::size_t(m_blocks.x);
+        const IVec3 lo = IVec3{std::int32_t(bx), std::int32_t(rest % std::size_t(m_blocks.y)),
+                               std::int32_t(rest / std::size_t(m_blocks.y))} << kBlockShift;
+        const IVec3 hi = glm::min(lo + ((1 << kBlockShift) - 1), m_bricks - 1);
+        // (add() may grow the pool under forEach: forEach reads each next link by index, after fn.)
+        m_lists.forEach(m_blockHeads[block], [&](ObjectSlot s) {
+            forEachBrick(m_boxes[s], lo, hi, [&](std::size_t brick, const IVec3&, const BrickPart& p) {
+                m_lists.add(m_heads[brick], s);
+                orPart(brick, p);
+            });
+        });
     }
 
     void orPart(std::size_t brick, const BrickPart& p) {
@@ -636,6 +741,9 @@ private:
     std::vector<std::uint32_t> m_heads;  // per brick: the head of its list of slots
     std::vector<std::uint64_t> m_bits;   // per brick, kSlices words: a superset of its TBVs' voxels (exact unless stale)
     std::vector<std::uint8_t> m_stale;   // per brick: an erase since its last rebuild
+    IVec3 m_blocks;                           // blocks of 2^3 bricks per axis
+    std::vector<std::uint32_t> m_blockHeads;  // per block: while cold, the TBVs whose box meets it
+    std::vector<std::uint8_t> m_blockHot;     // per block: its bricks' lists and bitmaps are written
     std::vector<std::uint32_t> m_voxels; // Shell: one list head per voxel
     TbvListPool m_lists;
     std::vector<Stored> m_boxes;         // per slot: its box, to test and to find its bricks
