@@ -59,7 +59,7 @@ void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, Cul
             shape.slack = slack;
             shape.slot = slot;
         }
-        // std::sort's order without its comparisons (DistanceSort.hpp: 8 % of the clusters' frame).
+        // std::sort's order without its comparisons, half of whose branches mispredicted (DistanceSort.hpp).
         sortByDistance(bufferOrder, vs.bufferOrderScratch);
         // The occluders the walk drew are in the inherited image at its coarser resolution, whose depths
         // are a coarse pixel's largest entry: behind a wall seen at a grazing angle, or at a room's corner,
