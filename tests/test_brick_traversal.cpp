@@ -497,7 +497,7 @@ TEST_CASE("brick pyramid: marks and clears propagate exactly", "[grid][brick]") 
     }
 }
 
-TEST_CASE("brick traversal: the per-brick row clipper gives clipVoxelRow's spans", "[grid][brick]") {
+TEST_CASE("brick traversal: the per-brick row clipper gives clipVoxelRow's spans, row by row and a brick at once", "[grid][brick]") {
     // BrickTraversal3D clips a brick's rows with VoxelRowClipper, which picks each straddled side plane's
     // terms once per brick; it must keep exactly the voxels clipVoxelRow keeps (which ViewFrustum's
     // tests pin), for any plane subset, any camera (inside the grid or not, on voxel faces), any fov.
@@ -505,12 +505,13 @@ TEST_CASE("brick traversal: the per-brick row clipper gives clipVoxelRow's spans
     std::mt19937_64 rng(seed);
     const GridGeometry3 grid(Vec3(0.0), 1.0, {64, 32, 64});
     std::uniform_real_distribution<double> pos(-20, 84), unit(-1, 1), fov(1, 170);
-    long rows = 0, clipped = 0;
+    long rows = 0, clipped = 0, brickRows = 0, brickClipped = 0;
     for (int k = 0; k < 400; ++k) {
         Vec3 eye{pos(rng), pos(rng) * 0.5, pos(rng)};
         if (k % 4 == 0) eye = glm::floor(eye); // on voxel corners
         Vec3 dir{unit(rng), unit(rng), unit(rng)};
         if (k % 7 == 0) dir = {0, 0, 1}; // planes parallel to x
+        if (k % 11 == 0) dir = {1e-11, 0.3, 1}; // nearly so: bounds beyond the clamp (clipBrick's row-by-row path)
         if (lengthSquared<3>(dir) < 1e-6) dir = {1, 0, 0};
         const ViewFrustum view(rgvc::culler_test::makeCamera(eye, dir, fov(rng), kInf, 1 + (k % 3) * 0.5), grid);
         const unsigned planes = unsigned(k % 16);
@@ -529,9 +530,32 @@ TEST_CASE("brick traversal: the per-brick row clipper gives clipVoxelRow's spans
                 }
                 clipped += !a || a0 > 8 * (k % 8) || a1 < 8 * (k % 8) + 7;
             }
+        // clipBrick: all 64 rows of a brick at once, the same spans as clip() row by row.
+        for (std::int32_t z0 = 0; z0 < 64; z0 += 8)
+            for (std::int32_t y0 = 0; y0 < 32; y0 += 8) {
+                std::int32_t u0[64], u1[64];
+                const std::int32_t x0 = 8 * ((k + y0 + z0) % 8);
+                std::fill(std::begin(u0), std::end(u0), x0);
+                std::fill(std::begin(u1), std::end(u1), x0 + 7);
+                clipper.clipBrick(y0, z0, u0, u1);
+                for (int i = 0; i < 64; ++i) {
+                    std::int32_t b0 = x0, b1 = x0 + 7;
+                    const bool b = clipper.clip(y0 + (i & 7), z0 + (i >> 3), b0, b1);
+                    ++brickRows;
+                    if (b != (u0[i] <= u1[i]) || (b && (u0[i] != b0 || u1[i] != b1))) {
+                        UNSCOPED_INFO("seed " << seed << " case " << k << " brick row " << y0 + (i & 7) << ", " << z0 + (i >> 3));
+                        REQUIRE(b == (u0[i] <= u1[i]));
+                        REQUIRE(u0[i] == b0);
+                        REQUIRE(u1[i] == b1);
+                    }
+                    brickClipped += !b || b0 > x0 || b1 < x0 + 7;
+                }
+            }
     }
-    std::printf("[brick] row clipper: %ld rows compared, %ld of them clipped, all equal\n", rows, clipped);
+    std::printf("[brick] row clipper: %ld rows compared, %ld of them clipped, all equal; clipBrick: %ld rows, %ld clipped, "
+                "all equal\n", rows, clipped, brickRows, brickClipped);
     CHECK(clipped > rows / 10);
+    CHECK(brickClipped > brickRows / 10);
 }
 
 TEST_CASE("brick objects: an object is listed in every brick its footprint in I reaches", "[grid][brick]") {

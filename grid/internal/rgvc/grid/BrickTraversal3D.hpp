@@ -44,6 +44,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstddef>
+#include <iterator>
 #include <type_traits>
 #include <vector>
 
@@ -194,7 +195,13 @@ private:
                 visitWholeBrick(grid, storage, frustum, image, brick, lo, hi, stamp, tbvHere, onTbvs, insideObject, onBrickIds, st);
                 return;
             }
-        const VoxelRowClipper clipper(frustum, straddled);
+        // The straddled planes' spans for all 64 rows at once (VoxelRowClipper::clipBrick, vectorized).
+        std::int32_t clipU0[64], clipU1[64];
+        if (!inCone) {
+            std::fill(std::begin(clipU0), std::end(clipU0), lo.x);
+            std::fill(std::begin(clipU1), std::end(clipU1), hi.x - 1);
+            VoxelRowClipper(frustum, straddled).clipBrick(lo.y, lo.z, clipU0, clipU1);
+        }
         const std::uint32_t resY = std::uint32_t(grid.resolution().y);
         int rows = 0;
         for (std::int32_t z = lo.z; z < hi.z; ++z)
@@ -211,7 +218,12 @@ private:
                 r.ids = ids;
                 r.u0 = lo.x;
                 r.u1 = hi.x - 1;
-                if (!inCone && !clipper.clip(y, z, r.u0, r.u1)) r.u0 = 1, r.u1 = 0;
+                if (!inCone) {
+                    const std::size_t c = std::size_t(8 * (z - lo.z) + (y - lo.y));
+                    r.u0 = clipU0[c];
+                    r.u1 = clipU1[c];
+                    if (r.u0 > r.u1) r.u0 = 1, r.u1 = 0;
+                }
                 if (image == nullptr || r.u0 > r.u1) continue;
                 // O's word (lo.x is a multiple of 8: bit x - lo.x), the span's opaque voxels only.
                 const std::uint32_t span = ((2u << (r.u1 - r.u0)) - 1u) << (r.u0 - lo.x);
