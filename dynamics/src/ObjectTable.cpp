@@ -159,7 +159,10 @@ void Culler<D>::Impl::attachHidden(ObjectSlot slot, const Placement& p, const Tb
     writes += tbvs.insert(slot, region, options.tbvDiscretization);
     { // the brick tree must see the TBV (BrickPyramid: marking is eager)
         IVec<D> lo, hi;
-        if (tbvVoxelBox<D>(region, grid.resolution(), lo, hi)) storage.bricks().markOccupied(lo, hi);
+        bool inGrid;
+        if constexpr (D == 3) inGrid = tbvs.voxelBox(slot, lo, hi); // the box the insert just computed
+        else inGrid = tbvVoxelBox<D>(region, grid.resolution(), lo, hi);
+        if (inGrid) storage.bricks().markOccupied(lo, hi);
     }
     expiring[expiry % expiring.size()].emplace_back(slot, r.tbvGeneration);
     enter(slot, State::Hidden);
