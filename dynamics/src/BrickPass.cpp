@@ -22,7 +22,7 @@ constexpr double kMinTraversalOccluderPixels = 16;
 /// Sound whatever the order: every pixel depth in the image is a true bound when it is written.
 template <int D>
 template <class S, class View>
-void Culler<D>::Impl::classify(ViewScratch<S>& vs, ObjectSlot slot, const View& view) {
+void Culler<D>::Impl::classify(ViewScratch<S>& vs, ObjectSlot slot, const View& view, bool inCone) {
     if (vs.classifiedStamp[slot] == vs.stamp) return;
     vs.classifiedStamp[slot] = vs.stamp;
     const Record& r = records[slot];
@@ -32,7 +32,17 @@ void Culler<D>::Impl::classify(ViewScratch<S>& vs, ObjectSlot slot, const View& 
     }
     const double slack = grid.conversionSlack(r.at.worldMagnitude) + view.slack();
     const Box<D> b = r.at.localBounds;
-    if (!view.touchesBox(b.min - slack, b.max + slack)) return;
+    if constexpr (D == 3) {
+        // Met in a brick inside the cone (onBrickIds' inCone): the object is listed there because its
+        // bounds, grown by the conversion slack and 1e-6 voxel, touch a voxel of the brick's part in the
+        // grid (BrickObjects::boxOf: every brick of its box holds such a voxel), a point of the cone. So
+        // only the far limit is tested (touchesBox is withinFar and touchesCone); an object that misses
+        // the cone by less than 1e-6 voxel may be kept, which is sound. The cone test was 3 % of the
+        // clusters' instructions, for objects met in bricks away from the view's edges.
+        if (inCone ? !view.withinFar(b.min - slack, b.max + slack) : !view.touchesBox(b.min - slack, b.max + slack)) return;
+    } else {
+        if (!view.touchesBox(b.min - slack, b.max + slack)) return;
+    }
     if constexpr (D == 3) {
         const double nearest = vs.imageActive ? vs.traversalImage.nearestDistance(r.at.local, slack) : 0.0;
         if (vs.imageActive && vs.traversalImage.hidden(r.at.local, slack, nearest)) {
@@ -246,7 +256,7 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
             classify(vs, pair[1], view);
             return true;
         },
-        [&](const IVec3& brick) {
+        [&](const IVec3& brick, bool inCone) {
             // The brick's objects (BrickObjects.hpp: a superset of those with ids in it), met once per
             // brick instead of once per voxel in view; the stamp checked here, as for the ids.
             const std::vector<ObjectSlot>& list = brickObjects.at(brick);
@@ -264,7 +274,7 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
             }
 #endif
             for (std::size_t i = 0; i < list.size(); ++i)
-                if (vs.classifiedStamp[list[i]] != vs.stamp) classify(vs, list[i], view);
+                if (vs.classifiedStamp[list[i]] != vs.stamp) classify(vs, list[i], view, inCone);
             return !list.empty();
         },
         adaptive && vs.imageActive);

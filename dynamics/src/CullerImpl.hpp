@@ -311,7 +311,8 @@ template <int D> struct Culler<D>::Impl {
 
     // ---- the hierarchical traversal (BrickPass.cpp) -------------------------------------------------
 
-    template <class S, class View> void classify(ViewScratch<S>& vs, ObjectSlot slot, const View& view);
+    /// inCone (3D): the object was met in a brick inside the view's cone, so only the far limit is tested.
+    template <class S, class View> void classify(ViewScratch<S>& vs, ObjectSlot slot, const View& view, bool inCone = false);
     void classify(ObjectSlot slot); // cull()'s view (main)
     template <class S> void traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view, CullStats& st) requires(D == 3);
     template <class S> void traverseBricks(ViewScratch<S>& vs, const ViewWedge& view, CullStats& st) requires(D == 2);

@@ -80,10 +80,12 @@ public:
     /// @param insideObject bool(VoxelKey seed, IVec3 lo, IVec3 hi): whether the voxel box lo..hi (inclusive)
     ///                   grown from opaque voxel `seed` lies inside one object the caller will draw itself
     ///                   (a box object holding the seed): that fused box then adds nothing and is not drawn.
-    /// @param onBrickIds bool(IVec3 brick), or null: when given, the caller keeps its own list of the objects
-    ///                   in each brick (a superset of those with ids in it) and meets them there, once per
-    ///                   visited brick after its fused boxes, returning whether the list holds any; the
-    ///                   voxels' ids are then not read and onVoxel is not called.
+    /// @param onBrickIds bool(IVec3 brick, bool inCone), or null: when given, the caller keeps its own list of
+    ///                   the objects in each brick (a superset of those with ids in it) and meets them there,
+    ///                   once per visited brick after its fused boxes, returning whether the list holds any;
+    ///                   the voxels' ids are then not read and onVoxel is not called. inCone: the brick's
+    ///                   part in the grid lies inside the view's cone (strictly inside its four side planes),
+    ///                   so whatever meets that part meets the cone.
     /// @param countSkippedBricks  fill st.bricksSkipped (CullerOptions::adaptiveImage's measure).
     template <class MayHoldTbv, class OnVoxel, class OnTbvs, class InsideObject, class OnBrickIds = std::nullptr_t>
     BrickTraversalStats3D run(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum,
@@ -233,7 +235,7 @@ private:
                 drawFusedBoxes(grid, storage, frustum, *image, r.word, bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
             }
         // The caller's list of the brick's objects, after the fused boxes as the ids would be.
-        if constexpr (kLists) anyIds = onBrickIds(brick);
+        if constexpr (kLists) anyIds = onBrickIds(brick, inCone);
         // Pass 2: visit the spans; then the brick's TBVs, all at once when the caller can.
         std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0}; // the visited voxels, as slice words
         for (int i = 0; i < rows; ++i) {
@@ -287,7 +289,7 @@ private:
                 if (bits == 0) continue;
                 drawFusedBoxes(grid, storage, frustum, *image, word, bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
             }
-        const bool anyIds = onBrickIds(brick);
+        const bool anyIds = onBrickIds(brick, true);
         for (int i = 0; i < rows; ++i) storage.setVisitedBits(words[i], full, stamp);
         st.voxelsVisited += std::uint64_t(rows) * std::uint64_t(hi.x - lo.x);
         if (tbvHere) {
