@@ -205,19 +205,24 @@ private:
             VoxelRowClipper(frustum, straddled).clipBrick(lo.y, lo.z, clipU0, clipU1);
         }
         const std::uint32_t resY = std::uint32_t(grid.resolution().y);
+        // With the caller's lists and no far limit, no voxel callback needs ordering after the brick's
+        // objects: the visited marks, counts and slice words are set in this one pass over the rows, and
+        // pass 2 is skipped (its second loop over the rows was a fifth of the walk's per-brick work).
+        const bool onePass = kLists && !hasFar;
+        std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0}; // the visited voxels, as slice words
         int rows = 0;
         for (std::int32_t z = lo.z; z < hi.z; ++z)
             for (std::int32_t y = lo.y; y < hi.y; ++y) {
                 RowInfo& r = m_rows[std::size_t(rows++)];
-                r.key = grid.linearIndex(IVec3{0, y, z});
                 r.word = storage.rowWord(std::uint32_t(y) + resY * std::uint32_t(z), lo.x);
                 r.y = y;
                 r.z = z;
-                std::uint32_t ids = 0; // bit x - lo.x
-                if constexpr (!kLists)
-                    for (std::int32_t x = lo.x; x < hi.x; ++x) ids |= std::uint32_t(storage.hasIds(VoxelKey(r.key + std::uint32_t(x)))) << (x - lo.x);
-                anyIds = anyIds || ids != 0;
-                r.ids = ids;
+                r.ids = 0; // bit x - lo.x: the voxels with ids (read only without the caller's lists)
+                if constexpr (!kLists) {
+                    r.key = grid.linearIndex(IVec3{0, y, z}); // (for onVoxel, which only the ids call)
+                    for (std::int32_t x = lo.x; x < hi.x; ++x) r.ids |= std::uint32_t(storage.hasIds(VoxelKey(r.key + std::uint32_t(x)))) << (x - lo.x);
+                    anyIds = anyIds || r.ids != 0;
+                }
                 r.u0 = lo.x;
                 r.u1 = hi.x - 1;
                 if (!inCone) {
@@ -225,6 +230,12 @@ private:
                     r.u0 = clipU0[c];
                     r.u1 = clipU1[c];
                     if (r.u0 > r.u1) r.u0 = 1, r.u1 = 0;
+                }
+                if (onePass && r.u0 <= r.u1) {
+                    const std::uint32_t inView = ((2u << (r.u1 - r.u0)) - 1u) << (r.u0 - lo.x);
+                    st.voxelsVisited += std::uint64_t(r.u1 - r.u0 + 1);
+                    storage.setVisitedBits(r.word, inView, stamp);
+                    visible[z - lo.z] |= std::uint64_t(inView) << (8 * (y - lo.y));
                 }
                 if (image == nullptr || r.u0 > r.u1) continue;
                 // O's word (lo.x is a multiple of 8: bit x - lo.x), the span's opaque voxels only.
@@ -237,8 +248,7 @@ private:
         // The caller's list of the brick's objects, after the fused boxes as the ids would be.
         if constexpr (kLists) anyIds = onBrickIds(brick, inCone);
         // Pass 2: visit the spans; then the brick's TBVs, all at once when the caller can.
-        std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0}; // the visited voxels, as slice words
-        for (int i = 0; i < rows; ++i) {
+        for (int i = 0; i < (onePass ? 0 : rows); ++i) {
             const RowInfo& r = m_rows[std::size_t(i)];
             std::uint32_t inView = 0; // bit x - lo.x: visited
             if (!hasFar) {
