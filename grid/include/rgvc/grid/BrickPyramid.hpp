@@ -117,16 +117,8 @@ public:
     }
 
 private:
-    static std::size_t count(const IVec<D>& d) {
-        std::size_t n = 1;
-        for (int a = 0; a < D; ++a) n *= std::size_t(d[a]);
-        return n;
-    }
-    static std::size_t index(const IVec<D>& d, const IVec<D>& c) {
-        std::size_t i = 0;
-        for (int a = D - 1; a >= 0; --a) i = i * std::size_t(d[a]) + std::size_t(c[a]);
-        return i;
-    }
+    static std::size_t count(const IVec<D>& d) { return cellCount<D>(d); }
+    static std::size_t index(const IVec<D>& d, const IVec<D>& c) { return cellIndex<D>(d, c); }
     /// The parent at `level` of a node one level below (the top level of a one-brick grid is its copy).
     IVec<D> parentOf(const IVec<D>& node, std::size_t level) const {
         IVec<D> p = node >> 1;

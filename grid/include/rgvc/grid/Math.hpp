@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 namespace rgvc {
@@ -32,6 +33,27 @@ using IVec3 = IVec<3>;
 /// 1e-9 voxel is far above double rounding for grids up to 2^31 voxels per axis and far below anything
 /// a scene can express meaningfully.
 inline constexpr double kConservativeSlack = 1e-9;
+
+/// Cells in a box of `dims` cells (x fastest): their number, the row-major index of cell c, and the
+/// cell of index i. Shared by the brick pyramid's levels and T's bricks and blocks.
+template <int D> inline std::size_t cellCount(const IVec<D>& dims) {
+    std::size_t n = 1;
+    for (int a = 0; a < D; ++a) n *= std::size_t(dims[a]);
+    return n;
+}
+template <int D> inline std::size_t cellIndex(const IVec<D>& dims, const IVec<D>& c) {
+    std::size_t i = 0;
+    for (int a = D - 1; a >= 0; --a) i = i * std::size_t(dims[a]) + std::size_t(c[a]);
+    return i;
+}
+template <int D> inline IVec<D> cellOf(const IVec<D>& dims, std::size_t i) {
+    IVec<D> c;
+    for (int a = 0; a < D; ++a) {
+        c[a] = std::int32_t(i % std::size_t(dims[a]));
+        i /= std::size_t(dims[a]);
+    }
+    return c;
+}
 
 template <int D> inline bool allFinite(const Vec<D>& v) {
     for (int i = 0; i < D; ++i)

@@ -68,15 +68,15 @@ public:
         st.inGrid = tbvVoxelBox3D(r, m_res, st.lo, st.hi);
         ++m_live;
         if (mode == TbvDiscretization::Shell) {
-            if (m_voxels.empty()) m_voxels.assign(std::size_t(m_res.x) * std::size_t(m_res.y) * std::size_t(m_res.z), kNone);
-            return forEachShellVoxel(r, [&](std::uint32_t& head) { m_lists.add(head, slot); });
+            if (m_voxels.empty()) m_voxels.assign(cellCount<3>(m_res), kNone);
+            return forEachShellVoxel(st, [&](std::uint32_t& head) { m_lists.add(head, slot); });
         }
         if (m_heads.empty()) {
-            const std::size_t n = std::size_t(m_bricks.x) * std::size_t(m_bricks.y) * std::size_t(m_bricks.z);
+            const std::size_t n = cellCount<3>(m_bricks);
             m_heads.assign(n, kNone);
             m_bits.assign(n * kSlices, 0);
             m_stale.assign(n, 0);
-            const std::size_t blocks = std::size_t(m_blocks.x) * std::size_t(m_blocks.y) * std::size_t(m_blocks.z);
+            const std::size_t blocks = cellCount<3>(m_blocks);
             m_blockHeads.assign(blocks, kNone);
             m_blockHot.assign(blocks, 0);
         }
@@ -257,14 +257,19 @@ private:
     static constexpr std::size_t kSlices = std::size_t(1) << kBrickShift; // words per brick
     static constexpr std::int32_t kBrickMask = (1 << kBrickShift) - 1;
 
-    std::size_t voxel(const IVec3& v) const {
-        return std::size_t(v.x) + std::size_t(m_res.x) * (std::size_t(v.y) + std::size_t(m_res.y) * std::size_t(v.z));
-    }
+    std::size_t voxel(const IVec3& v) const { return cellIndex<3>(m_res, v); }
 
-    /// Calls fn(head) for every voxel of the outer shell of the region's voxel box; returns the count.
-    template <class Fn> std::size_t forEachShellVoxel(const TbvRegion<3>& r, Fn&& fn) {
-        IVec3 lo, hi;
-        if (!tbvVoxelBox3D(r, m_res, lo, hi)) return 0;
+    /// A slot's voxel box, clipped to the grid (inGrid false: none), and how it was written.
+    struct Stored {
+        IVec3 lo{0}, hi{-1};
+        TbvDiscretization mode = TbvDiscretization::Boundary;
+        bool inGrid = false;
+    };
+
+    /// Calls fn(head) for every voxel of the outer shell of a stored voxel box; returns the count.
+    template <class Fn> std::size_t forEachShellVoxel(const Stored& b, Fn&& fn) {
+        if (!b.inGrid) return 0;
+        const IVec3 lo = b.lo, hi = b.hi;
         std::size_t n = 0;
         for (std::int32_t z = lo.z; z <= hi.z; ++z)
             for (std::int32_t y = lo.y; y <= hi.y; ++y) {
@@ -280,13 +285,6 @@ private:
             }
         return n;
     }
-
-    /// A slot's voxel box, clipped to the grid (inGrid false: none), and how it was written.
-    struct Stored {
-        IVec3 lo{0}, hi{-1};
-        TbvDiscretization mode = TbvDiscretization::Boundary;
-        bool inGrid = false;
-    };
 
     /// Whether the slot's discretization holds v: Filled, the box; Boundary, its outer shell.
     static bool boxHolds(const Stored& b, const IVec3& v) {
@@ -399,9 +397,7 @@ private:
         return n;
     }
 
-    std::size_t blockIndex(const IVec3& k) const {
-        return std::size_t(k.x) + std::size_t(m_blocks.x) * (std::size_t(k.y) + std::size_t(m_blocks.y) * std::size_t(k.z));
-    }
+    std::size_t blockIndex(const IVec3& k) const { return cellIndex<3>(m_blocks, k); }
     std::size_t blockOfBrick(const IVec3& bc) const { return blockIndex(bc >> kBlockShift); }
     /// The list to read for brick bc: its own in a hot block, its block's in a cold one (a superset:
     /// every TBV whose box meets the block; callers test each against the brick).
@@ -421,9 +417,7 @@ private:
     /// in their slots' chains until erased; nothing reads them again.
     void heat(std::size_t block) {
         m_blockHot[block] = 1;
-        const std::size_t bx = block % std::size_t(m_blocks.x), rest = block / std::size_t(m_blocks.x);
-        const IVec3 lo = IVec3{std::int32_t(bx), std::int32_t(rest % std::size_t(m_blocks.y)),
-                               std::int32_t(rest / std::size_t(m_blocks.y))} << kBlockShift;
+        const IVec3 lo = cellOf<3>(m_blocks, block) << kBlockShift;
         const IVec3 hi = glm::min(lo + ((1 << kBlockShift) - 1), m_bricks - 1);
         // (add() may grow the pool under forEach: forEach reads each next link by index, after fn.)
         m_lists.forEach(m_blockHeads[block], [&](ObjectSlot s) {
@@ -447,8 +441,7 @@ private:
     void rebuild(std::size_t brick) {
         std::uint64_t* w = &m_bits[brick * kSlices];
         std::fill(w, w + kSlices, 0);
-        const std::size_t bx = brick % std::size_t(m_bricks.x), rest = brick / std::size_t(m_bricks.x);
-        const IVec3 bc{std::int32_t(bx), std::int32_t(rest % std::size_t(m_bricks.y)), std::int32_t(rest / std::size_t(m_bricks.y))};
+        const IVec3 bc = cellOf<3>(m_bricks, brick);
         BrickPart p;
         m_lists.forEach(m_heads[brick], [&](ObjectSlot s) {
             if (brickPart(m_boxes[s], bc, p)) orPart(brick, p);
@@ -456,9 +449,7 @@ private:
         m_stale[brick] = 0;
     }
 
-    std::size_t brickIndex(const IVec3& bc) const {
-        return std::size_t(bc.x) + std::size_t(m_bricks.x) * (std::size_t(bc.y) + std::size_t(m_bricks.y) * std::size_t(bc.z));
-    }
+    std::size_t brickIndex(const IVec3& bc) const { return cellIndex<3>(m_bricks, bc); }
     std::size_t brickOf(const IVec3& v) const { return brickIndex(v >> kBrickShift); }
     bool bitAt(std::size_t brick, const IVec3& v) const {
         const std::uint64_t w = m_bits[brick * kSlices + std::size_t(v.z & kBrickMask)];
