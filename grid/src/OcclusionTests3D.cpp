@@ -87,14 +87,30 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
     // convex polytope whose vertices are the corners with z >= zMin and the points where the box's edges
     // cross the plane z = zMin; its image is the convex hull of their images (a central projection maps
     // segments in front of the apex to segments).
-    double zc[8];
-    Vec3 q[8];
-    bool anyFront = false;
-    for (int k = 0; k < 8; ++k) {
-        q[k] = Vec3{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
-        zc[k] = glm::dot(q[k], m_forward);
-        anyFront = anyFront || zc[k] >= zMin;
+    // Corner k (bit 0: x at hi, bit 1: y, bit 2: z) in camera coordinates, from the six products of the
+    // box's bounds with each axis of the camera: a dot product per corner and axis is a sum of one
+    // product per box axis, so 18 products and two additions per corner and axis replace 72 products
+    // (the projections were a fifth of this function's instructions).
+    double xc[8], yc[8], zc[8];
+    {
+        const double rx[2] = {lo.x * m_right.x, hi.x * m_right.x}, ry[2] = {lo.y * m_right.y, hi.y * m_right.y},
+                     rz[2] = {lo.z * m_right.z, hi.z * m_right.z};
+        const double ux[2] = {lo.x * m_up.x, hi.x * m_up.x}, uy[2] = {lo.y * m_up.y, hi.y * m_up.y},
+                     uz[2] = {lo.z * m_up.z, hi.z * m_up.z};
+        const double fx[2] = {lo.x * m_forward.x, hi.x * m_forward.x}, fy[2] = {lo.y * m_forward.y, hi.y * m_forward.y},
+                     fz[2] = {lo.z * m_forward.z, hi.z * m_forward.z};
+#pragma GCC unroll 8
+        for (int k = 0; k < 8; ++k) {
+            const int a = k & 1, b = (k >> 1) & 1, c = k >> 2;
+            xc[k] = rx[a] + ry[b] + rz[c];
+            yc[k] = ux[a] + uy[b] + uz[c];
+            zc[k] = fx[a] + fy[b] + fz[c];
+        }
     }
+    int front = 0; // bit k: corner k in front of the plane z = zMin
+#pragma GCC unroll 8
+    for (int k = 0; k < 8; ++k) front |= int(zc[k] >= zMin) << k;
+    const bool anyFront = front != 0, allFront = front == 0xFF;
     f.n = 0;
     f.covered = false;
     if (!(zMin > 0)) {
@@ -104,22 +120,29 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
     if (!anyFront) return false; // no point of the box in view
     double px[20], py[20];
     int n = 0;
-    auto add = [&](const Vec3& p, double z) {
+    auto add = [&](double x, double y, double z) {
         const double inv = 1.0 / z; // one division (the bounds are padded by 1e-7 relative below)
-        px[n] = glm::dot(p, m_right) * inv;
-        py[n] = glm::dot(p, m_up) * inv;
+        px[n] = x * inv;
+        py[n] = y * inv;
         ++n;
     };
-    bool allFront = true;
-    for (int k = 0; k < 8; ++k) allFront = allFront && zc[k] >= zMin;
-    for (int k = 0; k < 8; ++k) {
-        if (zc[k] >= zMin) add(q[k], zc[k]);
-        if (allFront) continue; // no edge crosses the plane
+    if (allFront) { // (most tests: straight-line code over the eight corners, no edge crosses the plane)
+#pragma GCC unroll 8
+        for (int k = 0; k < 8; ++k) {
+            const double inv = 1.0 / zc[k];
+            px[k] = xc[k] * inv;
+            py[k] = yc[k] * inv;
+        }
+        n = 8;
+    } else for (int k = 0; k < 8; ++k) {
+        if (zc[k] >= zMin) add(xc[k], yc[k], zc[k]);
         for (int a = 0; a < 3; ++a) { // the edge from corner k to the corner differing in bit a
             const int m = k ^ (1 << a);
             if (m < k || (zc[k] >= zMin) == (zc[m] >= zMin)) continue;
+            // Camera coordinates are linear in the point, so the crossing's are the same blend of the
+            // corners' (its z is zMin by construction).
             const double t = (zMin - zc[k]) / (zc[m] - zc[k]);
-            add(q[k] + (q[m] - q[k]) * t, zMin);
+            add(xc[k] + (xc[m] - xc[k]) * t, yc[k] + (yc[m] - yc[k]) * t, zMin);
         }
     }
     double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf;
