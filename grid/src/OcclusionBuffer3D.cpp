@@ -69,6 +69,8 @@ bool OcclusionBuffer3D::beginRefined(const OcclusionBuffer3D& coarse, int factor
 void OcclusionBuffer3D::startImage() {
     m_pixelW = 2 * m_halfW / m_cols;
     m_pixelH = 2 * m_halfH / m_rows;
+    m_invPixelW = 1 / m_pixelW;
+    m_invPixelH = 1 / m_pixelH;
     m_partial.assign(std::size_t(m_rows) * std::size_t(m_cols), 0);
     // m_depthNote is cleared by its stamp (a memset per image was a third of what the notes cost the
     // 3D city): entries of earlier images carry an older stamp. 0 is never a live stamp.
@@ -79,7 +81,7 @@ void OcclusionBuffer3D::startImage() {
     }
     // A pixel's corner bits are read only after its slot is set, which writes them: sized, not cleared.
     m_partialCorners.resize(std::size_t(m_rows) * std::size_t(m_cols));
-    m_seamBoxes.clear();
+    m_seamCount = 0;
     m_shadowPolytopes.clear();
     m_shadowN.clear();
     m_shadowC.clear();
@@ -117,18 +119,19 @@ std::size_t OcclusionBuffer3D::coveredPixels() const {
 OcclusionBuffer3D::PixelRect OcclusionBuffer3D::pixelsOf(double x0, double x1, double y0, double y1) const {
     // Pixel i covers [-halfW + i w, -halfW + (i + 1) w]; a small index margin keeps a direction on a
     // pixel boundary in both neighbours despite rounding.
-    auto index = [](double v, double half, double size, double bias) {
-        const double f = (v + half) / size + bias;
+    // (Times the inverse of the pixel's size: within an ulp or two of the quotient, far inside the margin.)
+    auto index = [](double v, double half, double inv, double bias) {
+        const double f = (v + half) * inv + bias;
         return f < -1.0 ? -1.0 : (f > 1e7 ? 1e7 : double(floorToInt(f)));
     };
     // Bounds computed from overflowing coordinates (inf - inf) are NaN: nothing is known, so the whole
     // image (found by fuzz_culler3d).
     if (std::isnan(x0) || std::isnan(x1) || std::isnan(y0) || std::isnan(y1)) return wholeImage();
     PixelRect r;
-    r.i0 = std::max(0, int(index(x0, m_halfW, m_pixelW, -1e-6)));
-    r.i1 = std::min(m_cols - 1, int(index(x1, m_halfW, m_pixelW, 1e-6)));
-    r.j0 = std::max(0, int(index(y0, m_halfH, m_pixelH, -1e-6)));
-    r.j1 = std::min(m_rows - 1, int(index(y1, m_halfH, m_pixelH, 1e-6)));
+    r.i0 = std::max(0, int(index(x0, m_halfW, m_invPixelW, -1e-6)));
+    r.i1 = std::min(m_cols - 1, int(index(x1, m_halfW, m_invPixelW, 1e-6)));
+    r.j0 = std::max(0, int(index(y0, m_halfH, m_invPixelH, -1e-6)));
+    r.j1 = std::min(m_rows - 1, int(index(y1, m_halfH, m_invPixelH, 1e-6)));
     if (r.i0 > r.i1 || r.j0 > r.j1) r.i0 = 1, r.i1 = 0;
     return r;
 }
@@ -140,11 +143,11 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& c, double rad
     // m = (cx cz +- rho sqrt(cx^2 + cz^2 - rho^2)) / (cz^2 - rho^2), when the disc lies in Z > 0.
     const double cx = glm::dot(c, m_right), cy = glm::dot(c, m_up), cz = glm::dot(c, m_forward);
     if (!(cz > radius * 1.001)) return wholeImage();
-    const double den = cz * cz - radius * radius;
+    const double den = cz * cz - radius * radius, invDen = 1 / den;
     auto range = [&](double cw, double& lo, double& hi) {
         const double root = radius * std::sqrt(cw * cw + cz * cz - radius * radius);
-        lo = (cw * cz - root) / den;
-        hi = (cw * cz + root) / den;
+        lo = (cw * cz - root) * invDen; // (padded by 1e-8 relative below, far above the product's ulps)
+        hi = (cw * cz + root) * invDen;
         const double pad = 1e-8 * (std::abs(lo) + std::abs(hi) + 1.0);
         lo -= pad;
         hi += pad;
@@ -209,8 +212,11 @@ void OcclusionBuffer3D::drawRect(const PixelRect& whole, double nearest, FillRow
     std::uint64_t covered = 0;
     for (int j = r.j0; j <= r.j1; ++j) {
         double* row = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
-        bool open = false;
-        for (int i = r.i0; i <= r.i1; ++i) open = open | (row[i] > nearest); // vectorized
+        // The row's ends first: an occluder in front of open space (most draws, a few pixels wide) is
+        // decided there without the vectorized loop's set-up.
+        bool open = row[r.i0] > nearest || row[r.i1] > nearest;
+        if (!open)
+            for (int i = r.i0 + 1; i < r.i1; ++i) open = open | (row[i] > nearest); // vectorized
         if (!open) continue;
         if (inA != j) fillRow(j, r.i0, r.i1 + 1, m_rowA.data());
         fillRow(j + 1, r.i0, r.i1 + 1, m_rowB.data());

@@ -135,14 +135,20 @@ void prepareLines(ImageSeamBox3D& b) {
 } // namespace
 
 std::uint32_t OcclusionBuffer3D::addSeamBox(const Vec3& lo, const Vec3& hi) {
-    if (m_seamBoxes.size() >= 0xFFFEu) return 0; // the per-pixel slots hold 16 bits
-    SeamBox b{};
+    if (m_seamCount >= 0xFFFEu) return 0; // the per-pixel slots hold 16 bits
+    // Filled in the slot it will take, kept from earlier frames: a SeamBox is about 900 bytes, and making
+    // one zeroed and copying it in cost as much as its footprint on the clusters' boxes. Only the fields
+    // read before prepareLines are set; footprintOf writes the polygon.
+    if (m_seamCount == m_seamBoxes.size()) m_seamBoxes.emplace_back();
+    SeamBox& b = m_seamBoxes[m_seamCount];
     b.lo = lo;
     b.hi = hi;
     const Vec3 far{std::max(-lo.x, hi.x), std::max(-lo.y, hi.y), std::max(-lo.z, hi.z)};
     b.farthest = std::sqrt(lengthSquared<3>(far));
     const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), lo, hi)));
     b.nearest = nearest;
+    b.area = 0;
+    b.linesReady = false;
     if (!(nearest > 0) || !footprintOf(lo, hi, zMinOf(nearest), b.poly, true) || b.poly.n < 3) return 0;
     for (int k = 0; k < b.poly.n; ++k) { // shoelace
         const int m = k + 1 == b.poly.n ? 0 : k + 1;
@@ -152,8 +158,7 @@ std::uint32_t OcclusionBuffer3D::addSeamBox(const Vec3& lo, const Vec3& hi) {
     // nothing, and a cloud of small boxes would run the polygon test at every shared pixel. (draw() skips
     // the call for those whose corners' rectangle is already smaller: rectOf's smallImage.)
     if (b.area < kMinSeamPixels * m_pixelW * m_pixelH) return 0;
-    m_seamBoxes.push_back(b);
-    return std::uint32_t(m_seamBoxes.size()); // index + 1
+    return ++m_seamCount; // index + 1
 }
 
 void OcclusionBuffer3D::notePartial(int i, int j, std::uint32_t box, unsigned corners) {

@@ -255,7 +255,8 @@ private:
     std::uint32_t addSeamBox(const Vec3& lo, const Vec3& hi);
     void notePartial(int i, int j, std::uint32_t box, unsigned corners);
     bool fusedDepth(int i, int j, const std::uint32_t* boxes, int n, double& depth);
-    std::vector<SeamBox> m_seamBoxes;
+    std::vector<SeamBox> m_seamBoxes; // the first m_seamCount are this frame's (the rest: storage kept)
+    std::uint32_t m_seamCount = 0;
     std::vector<std::uint32_t> m_partial; // per pixel: 16-bit box index + 1, twice (0: none)
     std::vector<std::uint8_t> m_partialCorners; // per pixel: the corner rays each of those boxes holds (4 bits each)
     // Per pixel: the large convex occluder that last set its depth (low 16 bits: a seam box index + 1
@@ -275,6 +276,7 @@ private:
 
     Vec3 m_apex{0.0}, m_forward{0.0}, m_right{0.0}, m_up{0.0};
     double m_halfW = 0, m_halfH = 0, m_pixelW = 0, m_pixelH = 0;
+    double m_invPixelW = 0, m_invPixelH = 0; // 1 / m_pixelW, 1 / m_pixelH: pixel indices by products
     int m_rows = 0, m_cols = 0;
     bool m_active = false;
     std::vector<double> m_depth; // rows x cols
