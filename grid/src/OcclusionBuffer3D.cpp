@@ -71,16 +71,18 @@ void OcclusionBuffer3D::startImage() {
     m_pixelH = 2 * m_halfH / m_rows;
     m_invPixelW = 1 / m_pixelW;
     m_invPixelH = 1 / m_pixelH;
-    m_partial.assign(std::size_t(m_rows) * std::size_t(m_cols), 0);
-    // m_depthNote is cleared by its stamp (a memset per image was a third of what the notes cost the
-    // 3D city): entries of earlier images carry an older stamp. 0 is never a live stamp.
+    // m_depthNote and the seams' slots are cleared by a stamp (a memset per image was a third of what
+    // the notes cost the 3D city, and the slots' 4 % of its instructions): entries of earlier images carry
+    // an older stamp (m_depthNote's high 16 bits, m_partialCorners' for the slots; notePartial). 0 is
+    // never a live stamp.
+    m_partial.resize(std::size_t(m_rows) * std::size_t(m_cols));
     m_depthNote.resize(std::size_t(m_rows) * std::size_t(m_cols));
+    m_partialCorners.resize(std::size_t(m_rows) * std::size_t(m_cols));
     if (++m_noteStamp > 0xFFFFu) {
         std::fill(m_depthNote.begin(), m_depthNote.end(), 0);
+        std::fill(m_partialCorners.begin(), m_partialCorners.end(), 0);
         m_noteStamp = 1;
     }
-    // A pixel's corner bits are read only after its slot is set, which writes them: sized, not cleared.
-    m_partialCorners.resize(std::size_t(m_rows) * std::size_t(m_cols));
     m_seamCount = 0;
     m_shadowPolytopes.clear();
     m_shadowN.clear();
@@ -118,20 +120,19 @@ std::size_t OcclusionBuffer3D::coveredPixels() const {
 
 OcclusionBuffer3D::PixelRect OcclusionBuffer3D::pixelsOf(double x0, double x1, double y0, double y1) const {
     // Pixel i covers [-halfW + i w, -halfW + (i + 1) w]; a small index margin keeps a direction on a
-    // pixel boundary in both neighbours despite rounding.
-    // (Times the inverse of the pixel's size: within an ulp or two of the quotient, far inside the margin.)
-    auto index = [](double v, double half, double inv, double bias) {
-        const double f = (v + half) * inv + bias;
-        return f < -1.0 ? -1.0 : (f > 1e7 ? 1e7 : double(floorToInt(f)));
-    };
+    // pixel boundary in both neighbours despite rounding. (Times the inverse of the pixel's size: within
+    // an ulp or two of the quotient, far inside the margin.)
+    const double f0 = (x0 + m_halfW) * m_invPixelW - 1e-6, f1 = (x1 + m_halfW) * m_invPixelW + 1e-6;
+    const double g0 = (y0 + m_halfH) * m_invPixelH - 1e-6, g1 = (y1 + m_halfH) * m_invPixelH + 1e-6;
     // Bounds computed from overflowing coordinates (inf - inf) are NaN: nothing is known, so the whole
     // image (found by fuzz_culler3d).
-    if (std::isnan(x0) || std::isnan(x1) || std::isnan(y0) || std::isnan(y1)) return wholeImage();
-    PixelRect r;
-    r.i0 = std::max(0, int(index(x0, m_halfW, m_invPixelW, -1e-6)));
-    r.i1 = std::min(m_cols - 1, int(index(x1, m_halfW, m_invPixelW, 1e-6)));
-    r.j0 = std::max(0, int(index(y0, m_halfH, m_invPixelH, -1e-6)));
-    r.j1 = std::min(m_rows - 1, int(index(y1, m_halfH, m_invPixelH, 1e-6)));
+    if (std::isnan(f0) || std::isnan(f1) || std::isnan(g0) || std::isnan(g1)) return wholeImage();
+    // The first index is floor(f) clamped to [0, count] (count: past the last, an empty range), the last
+    // floor(f) clamped to [-1, count - 1] (-1: before the first). Clamped before the conversion, so no
+    // coordinate overflows an int; a non-negative value truncates to its floor.
+    auto first = [](double f, int count) { return int(std::clamp(f, 0.0, double(count))); };
+    auto last = [](double f, int count) { return f < 0 ? -1 : int(std::min(f, double(count - 1))); };
+    PixelRect r{first(f0, m_cols), last(f1, m_cols), first(g0, m_rows), last(g1, m_rows)};
     if (r.i0 > r.i1 || r.j0 > r.j1) r.i0 = 1, r.i1 = 0;
     return r;
 }

@@ -164,13 +164,22 @@ std::uint32_t OcclusionBuffer3D::addSeamBox(const Vec3& lo, const Vec3& hi) {
 void OcclusionBuffer3D::notePartial(int i, int j, std::uint32_t box, unsigned corners) {
     const std::size_t p = std::size_t(j) * std::size_t(m_cols) + std::size_t(i);
     std::uint32_t& slots = m_partial[p];
-    std::uint8_t& held = m_partialCorners[p];
+    // The corner bits carry the image's stamp (high 16 bits; m_noteStamp): a pixel first met in this
+    // image starts with empty slots, so neither array is cleared per image (memsets of the slots were
+    // 4 % of the 3D city's instructions).
+    std::uint32_t& tagged = m_partialCorners[p];
+    const std::uint32_t stamp = m_noteStamp << 16;
+    if ((tagged & 0xFFFF0000u) != stamp) {
+        tagged = stamp;
+        slots = 0;
+    }
+    auto hold = [&](unsigned bits) { tagged = stamp | bits; };
     const std::uint32_t a = slots & 0xFFFFu, b = slots >> 16;
-    const unsigned ca = held & 0xFu, cb = held >> 4;
+    const unsigned ca = tagged & 0xFu, cb = (tagged >> 4) & 0xFu;
     if (a == box || b == box) return;
     if (a == 0) {
         slots = box;
-        held = std::uint8_t(corners);
+        hold(corners);
         return;
     }
     // A union can only cover the pixel if every corner ray passes through one of its boxes: most pixels
@@ -184,7 +193,7 @@ void OcclusionBuffer3D::notePartial(int i, int j, std::uint32_t box, unsigned co
         (b == 0 || depth <= std::max(boxNearest, m_seamBoxes[b - 1].nearest))) {
         if (b == 0) {
             slots |= box << 16;
-            held = std::uint8_t(ca | (corners << 4));
+            hold(ca | (corners << 4));
         }
         return;
     }
@@ -210,16 +219,16 @@ void OcclusionBuffer3D::notePartial(int i, int j, std::uint32_t box, unsigned co
         if (area > std::min(areaA, areaB)) {
             if (areaA < areaB) {
                 slots = box | (b << 16);
-                held = std::uint8_t(corners | (cb << 4));
+                hold(corners | (cb << 4));
             } else {
                 slots = a | (box << 16);
-                held = std::uint8_t(ca | (corners << 4));
+                hold(ca | (corners << 4));
             }
         }
         return;
     }
     slots |= box << 16;
-    held = std::uint8_t(ca | (corners << 4));
+    hold(ca | (corners << 4));
 }
 
 bool OcclusionBuffer3D::fusedDepth(int i, int j, const std::uint32_t* boxes, int n, double& depth) {

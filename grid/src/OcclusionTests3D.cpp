@@ -713,6 +713,14 @@ bool OcclusionBuffer3D::scanFootprint(const Footprint& f, double nearest) const 
     // the (padded) footprint, so no point of it is in view, and nothing of it can be seen.
     const PixelRect& r = f.rect;
     if (r.i0 > r.i1) return true;
+    if (f.n == 0) { // the rectangle alone (every sphere's first test): no spans to compute
+        for (int j = r.j0; j <= r.j1; ++j) {
+            const double* row = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
+            for (int i = r.i0; i <= r.i1; ++i)
+                if (!(row[i] < nearest)) return false;
+        }
+        return true;
+    }
     for (int j = r.j0; j <= r.j1; ++j) {
         int i0, i1;
         if (!rowSpan(f, j, i0, i1)) continue;

@@ -258,7 +258,9 @@ private:
     std::vector<SeamBox> m_seamBoxes; // the first m_seamCount are this frame's (the rest: storage kept)
     std::uint32_t m_seamCount = 0;
     std::vector<std::uint32_t> m_partial; // per pixel: 16-bit box index + 1, twice (0: none)
-    std::vector<std::uint8_t> m_partialCorners; // per pixel: the corner rays each of those boxes holds (4 bits each)
+    // Per pixel: the corner rays each of those boxes holds (4 bits each), and in the high 16 bits the
+    // stamp of the image that wrote them (another stamp: both slots empty).
+    std::vector<std::uint32_t> m_partialCorners;
     // Per pixel: the large convex occluder that last set its depth (low 16 bits: a seam box index + 1
     // below kPolytopeNote, kPolytopeNote | an m_shadowPolytopes index + 1 above; 0: none), under the stamp
     // of the image (high 16 bits; another stamp: none).
