@@ -80,6 +80,31 @@ const Silhouettes& silhouettes() {
 
 } // namespace
 
+// The witness test (OcclusionBuffer3D.hpp), inlined into the tests below: called about three times per
+// object tested, it was the most frequent call of the buffer's pass.
+[[gnu::always_inline]] inline bool OcclusionBuffer3D::canHide(const Vec3& p, std::size_t& pixel) const {
+    const double z = glm::dot(p, m_forward);
+    if (!(z > 0)) return true;
+    // A filter, never a proof (false only says the object cannot be hidden; true is checked further), so
+    // any pixel whose cone holds p will do: products by inverses, not quotients, where a rounding can only
+    // pick a neighbour that p's direction borders within an ulp. (About three calls per object tested on
+    // the clusters, the most frequent call of the buffer's pass; the divisions were its latency.)
+    const double invZ = 1 / z;
+    const double x = glm::dot(p, m_right) * invZ, y = glm::dot(p, m_up) * invZ;
+    if (!(std::abs(x) < m_halfW) || !(std::abs(y) < m_halfH)) return true; // not in the image: no verdict
+    const int i = std::min(m_cols - 1, int((x + m_halfW) * m_invPixelW));
+    const int j = std::min(m_rows - 1, int((y + m_halfH) * m_invPixelH));
+    pixel = std::size_t(j) * std::size_t(m_cols) + std::size_t(i);
+    // depth < |p| (1 - margin), squared (depths are positive or +inf): no square root.
+    const double depth = m_depth[pixel];
+    return depth * depth < lengthSquared<3>(p) * ((1 - kRelMargin) * (1 - kRelMargin));
+}
+
+[[gnu::always_inline]] inline bool OcclusionBuffer3D::canHide(const Vec3& p) const {
+    std::size_t pixel;
+    return canHide(p, pixel);
+}
+
 bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f, bool forSeams,
                                      double coveredBelow) const {
     // The box's points in the view at distance >= nearest have z >= zMin (zMinOf), so the image of the box
@@ -659,26 +684,6 @@ bool OcclusionBuffer3D::shadowed(const Vec3& lo, const Vec3& hi, std::size_t pix
     });
 }
 
-bool OcclusionBuffer3D::canHide(const Vec3& p, std::size_t& pixel) const {
-    const double z = glm::dot(p, m_forward);
-    if (!(z > 0)) return true;
-    // A filter, never a proof (false only says the object cannot be hidden; true is checked further), so
-    // any pixel whose cone holds p will do: products by inverses, not quotients, where a rounding can only
-    // pick a neighbour that p's direction borders within an ulp. (About three calls per object tested on
-    // the clusters, the most frequent call of the buffer's pass; the divisions were its latency.)
-    const double invZ = 1 / z;
-    const double x = glm::dot(p, m_right) * invZ, y = glm::dot(p, m_up) * invZ;
-    if (!(std::abs(x) < m_halfW) || !(std::abs(y) < m_halfH)) return true; // not in the image: no verdict
-    const int i = std::min(m_cols - 1, int((x + m_halfW) * m_invPixelW));
-    const int j = std::min(m_rows - 1, int((y + m_halfH) * m_invPixelH));
-    pixel = std::size_t(j) * std::size_t(m_cols) + std::size_t(i);
-    return m_depth[pixel] < std::sqrt(lengthSquared<3>(p)) * (1 - kRelMargin);
-}
-
-bool OcclusionBuffer3D::canHide(const Vec3& p) const {
-    std::size_t pixel;
-    return canHide(p, pixel);
-}
 
 ImageFootprint3D::Rect OcclusionBuffer3D::pixelRect(const Shape<3>& shape, double grow) const {
     if (!m_active) return {0, -1, 0, -1};
