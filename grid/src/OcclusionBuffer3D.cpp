@@ -163,25 +163,19 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec
     // A box entirely in front of the camera: its image is the convex hull of its corners' images.
     if (smallImage != nullptr) *smallImage = false;
     double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf;
-    // Camera coordinates of corner k (bit 0: x at hi, bit 1: y, bit 2: z) as sums of one product per box
-    // axis (as footprintOf computes them), and one reciprocal per corner instead of two quotients. The
-    // result is padded by 1e-8 relative below, far above the few ulps either form is off by.
-    const double rx[2] = {lo.x * m_right.x, hi.x * m_right.x}, ry[2] = {lo.y * m_right.y, hi.y * m_right.y},
-                 rz[2] = {lo.z * m_right.z, hi.z * m_right.z};
-    const double ux[2] = {lo.x * m_up.x, hi.x * m_up.x}, uy[2] = {lo.y * m_up.y, hi.y * m_up.y},
-                 uz[2] = {lo.z * m_up.z, hi.z * m_up.z};
-    const double fx[2] = {lo.x * m_forward.x, hi.x * m_forward.x}, fy[2] = {lo.y * m_forward.y, hi.y * m_forward.y},
-                 fz[2] = {lo.z * m_forward.z, hi.z * m_forward.z};
+    // One reciprocal per corner instead of two quotients: the result is padded by 1e-8 relative below, far
+    // above the few ulps either form is off by.
+    double xc[8], yc[8], zc[8];
+    boxCorners(lo, hi, xc, yc, zc);
     // A corner nearly in the camera's plane (z at most 1e-6 of its distance) makes the image unbounded
     // for practical purposes: the whole image. (|q|^2 from the corner's coordinates directly.)
     const double sx[2] = {lo.x * lo.x, hi.x * hi.x}, sy[2] = {lo.y * lo.y, hi.y * hi.y}, sz[2] = {lo.z * lo.z, hi.z * hi.z};
 #pragma GCC unroll 8
     for (int k = 0; k < 8; ++k) {
-        const int a = k & 1, b = (k >> 1) & 1, c = k >> 2;
-        const double z = fx[a] + fy[b] + fz[c];
-        if (!(z > 0) || !(z * z > 1e-12 * (sx[a] + sy[b] + sz[c]))) return wholeImage();
+        const double z = zc[k];
+        if (!(z > 0) || !(z * z > 1e-12 * (sx[k & 1] + sy[(k >> 1) & 1] + sz[k >> 2]))) return wholeImage();
         const double inv = 1.0 / z;
-        const double x = (rx[a] + ry[b] + rz[c]) * inv, y = (ux[a] + uy[b] + uz[c]) * inv;
+        const double x = xc[k] * inv, y = yc[k] * inv;
         x0 = std::min(x0, x);
         x1 = std::max(x1, x);
         y0 = std::min(y0, y);

@@ -87,8 +87,7 @@ const Silhouettes& silhouettes() {
     if (!(z > 0)) return true;
     // A filter, never a proof (false only says the object cannot be hidden; true is checked further), so
     // any pixel whose cone holds p will do: products by inverses, not quotients, where a rounding can only
-    // pick a neighbour that p's direction borders within an ulp. (About three calls per object tested on
-    // the clusters, the most frequent call of the buffer's pass; the divisions were its latency.)
+    // pick a neighbour that p's direction borders within an ulp.
     const double invZ = 1 / z;
     const double x = glm::dot(p, m_right) * invZ, y = glm::dot(p, m_up) * invZ;
     if (!(std::abs(x) < m_halfW) || !(std::abs(y) < m_halfH)) return true; // not in the image: no verdict
@@ -112,26 +111,8 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
     // convex polytope whose vertices are the corners with z >= zMin and the points where the box's edges
     // cross the plane z = zMin; its image is the convex hull of their images (a central projection maps
     // segments in front of the apex to segments).
-    // Corner k (bit 0: x at hi, bit 1: y, bit 2: z) in camera coordinates, from the six products of the
-    // box's bounds with each axis of the camera: a dot product per corner and axis is a sum of one
-    // product per box axis, so 18 products and two additions per corner and axis replace 72 products
-    // (the projections were a fifth of this function's instructions).
     double xc[8], yc[8], zc[8];
-    {
-        const double rx[2] = {lo.x * m_right.x, hi.x * m_right.x}, ry[2] = {lo.y * m_right.y, hi.y * m_right.y},
-                     rz[2] = {lo.z * m_right.z, hi.z * m_right.z};
-        const double ux[2] = {lo.x * m_up.x, hi.x * m_up.x}, uy[2] = {lo.y * m_up.y, hi.y * m_up.y},
-                     uz[2] = {lo.z * m_up.z, hi.z * m_up.z};
-        const double fx[2] = {lo.x * m_forward.x, hi.x * m_forward.x}, fy[2] = {lo.y * m_forward.y, hi.y * m_forward.y},
-                     fz[2] = {lo.z * m_forward.z, hi.z * m_forward.z};
-#pragma GCC unroll 8
-        for (int k = 0; k < 8; ++k) {
-            const int a = k & 1, b = (k >> 1) & 1, c = k >> 2;
-            xc[k] = rx[a] + ry[b] + rz[c];
-            yc[k] = ux[a] + uy[b] + uz[c];
-            zc[k] = fx[a] + fy[b] + fz[c];
-        }
-    }
+    boxCorners(lo, hi, xc, yc, zc); // (the projections were a fifth of this function's instructions)
     int front = 0; // bit k: corner k in front of the plane z = zMin
 #pragma GCC unroll 8
     for (int k = 0; k < 8; ++k) front |= int(zc[k] >= zMin) << k;
@@ -683,7 +664,6 @@ bool OcclusionBuffer3D::shadowed(const Vec3& lo, const Vec3& hi, std::size_t pix
         return true;
     });
 }
-
 
 ImageFootprint3D::Rect OcclusionBuffer3D::pixelRect(const Shape<3>& shape, double grow) const {
     if (!m_active) return {0, -1, 0, -1};

@@ -197,6 +197,25 @@ private:
     /// Boxes whose image spans fewer pixels are not kept for seam fusion (addSeamBox).
     static constexpr double kMinSeamPixels = 4;
     using Footprint = ImageFootprint3D;
+    /// Camera coordinates (x right, y up, z forward) of the corners of the box lo..hi (apex-relative),
+    /// corner k with bit 0: x at hi, bit 1: y at hi, bit 2: z at hi (footprintOf, rectOf). A corner's
+    /// coordinate on a camera axis is a sum of one product per box axis, so 18 products and two additions
+    /// per corner and axis do what three dot products per corner (72 products) did.
+    void boxCorners(const Vec3& lo, const Vec3& hi, double (&xc)[8], double (&yc)[8], double (&zc)[8]) const {
+        const double rx[2] = {lo.x * m_right.x, hi.x * m_right.x}, ry[2] = {lo.y * m_right.y, hi.y * m_right.y},
+                     rz[2] = {lo.z * m_right.z, hi.z * m_right.z};
+        const double ux[2] = {lo.x * m_up.x, hi.x * m_up.x}, uy[2] = {lo.y * m_up.y, hi.y * m_up.y},
+                     uz[2] = {lo.z * m_up.z, hi.z * m_up.z};
+        const double fx[2] = {lo.x * m_forward.x, hi.x * m_forward.x}, fy[2] = {lo.y * m_forward.y, hi.y * m_forward.y},
+                     fz[2] = {lo.z * m_forward.z, hi.z * m_forward.z};
+#pragma GCC unroll 8 // (at -O2 GCC otherwise keeps the index arithmetic)
+        for (int k = 0; k < 8; ++k) {
+            const int a = k & 1, b = (k >> 1) & 1, c = k >> 2;
+            xc[k] = rx[a] + ry[b] + rz[c];
+            yc[k] = ux[a] + uy[b] + uz[c];
+            zc[k] = fx[a] + fy[b] + fz[c];
+        }
+    }
     /// The footprint of the box (apex-relative) clipped to z >= zMin (z along forward). False when no
     /// point of the box has z >= zMin (none is in view).
     /// forSeams: always compute the polygon (otherwise a footprint of 2 x 2 pixels or less keeps n = 0).
