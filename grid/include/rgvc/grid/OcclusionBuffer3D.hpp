@@ -231,9 +231,10 @@ private:
     /// by one, `levels` deep.
     double zMinOf(double nearest) const;
     bool scanFootprint(const Footprint& f, double nearest) const;
-    bool canHide(const Vec3& p) const;
+    /// (Inline, defined in OcclusionTests3D.cpp, the one file that calls it.)
+    inline bool canHide(const Vec3& p) const;
     /// As canHide; `pixel` gets the index of p's pixel when it has one (else it is left as it was).
-    bool canHide(const Vec3& p, std::size_t& pixel) const;
+    inline bool canHide(const Vec3& p, std::size_t& pixel) const;
     /// The exact per-pixel test of a sphere (apex-relative centre, grown radius) wholly in front of the
     /// camera: every pixel showing part of it covered nearer than that part (OcclusionTests3D.cpp).
     bool hiddenBall(const Vec3& c, double radius, double nearest);
