@@ -304,8 +304,9 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
     // most the centre's distance). O(1) for the visible objects, which are most of what is tested.
     // The same for the shape's point nearest to the camera, where a shape in view is most often seen
     // (a ball's, or its bounding box's: the tests below are for that box).
+    const Box<3> bounds = boundsOf<3>(shape); // (the box tests below read it too)
     {
-        const Box<3> b = boundsOf<3>(shape);
+        const Box<3>& b = bounds;
         std::size_t centrePixel = std::size_t(-1);
         if (!canHide(0.5 * (b.min + b.max) - m_apex, centrePixel)) return false;
         if (const auto* ball = std::get_if<Ball<3>>(&shape)) {
@@ -356,9 +357,8 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
     } else {
         // A box, or a polytope's bounding box: its footprint holds the polytope's (the test is then for
         // the box, which contains the polytope: conservative).
-        const Box<3> box = boundsOf<3>(shape);
-        lo = box.min - grow - m_apex;
-        hi = box.max + grow - m_apex;
+        lo = bounds.min - grow - m_apex;
+        hi = bounds.max + grow - m_apex;
         inView = footprintOf(lo, hi, zMinOf(nearest), f, false, nearest);
     }
     if (!inView || f.covered || scanFootprint(f, nearest)) {

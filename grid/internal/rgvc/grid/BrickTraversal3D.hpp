@@ -248,7 +248,7 @@ private:
         // The caller's list of the brick's objects, after the fused boxes as the ids would be.
         if constexpr (kLists) anyIds = onBrickIds(brick, inCone);
         // Pass 2: visit the spans; then the brick's TBVs, all at once when the caller can.
-        for (int i = 0; i < (onePass ? 0 : rows); ++i) {
+        for (int i = 0; !onePass && i < rows; ++i) {
             const RowInfo& r = m_rows[std::size_t(i)];
             std::uint32_t inView = 0; // bit x - lo.x: visited
             if (!hasFar) {
