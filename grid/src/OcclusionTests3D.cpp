@@ -89,14 +89,17 @@ const Silhouettes& silhouettes() {
     // any pixel whose cone holds p will do: products by inverses, not quotients, where a rounding can only
     // pick a neighbour that p's direction borders within an ulp.
     const double invZ = 1 / z;
-    const double x = glm::dot(p, m_right) * invZ, y = glm::dot(p, m_up) * invZ;
+    return canHideAt(glm::dot(p, m_right) * invZ, glm::dot(p, m_up) * invZ, lengthSquared<3>(p), pixel);
+}
+
+[[gnu::always_inline]] inline bool OcclusionBuffer3D::canHideAt(double x, double y, double d2, std::size_t& pixel) const {
     if (!(std::abs(x) < m_halfW) || !(std::abs(y) < m_halfH)) return true; // not in the image: no verdict
     const int i = std::min(m_cols - 1, int((x + m_halfW) * m_invPixelW));
     const int j = std::min(m_rows - 1, int((y + m_halfH) * m_invPixelH));
     pixel = std::size_t(j) * std::size_t(m_cols) + std::size_t(i);
     // depth < |p| (1 - margin), squared (depths are positive or +inf): no square root.
     const double depth = m_depth[pixel];
-    return depth * depth < lengthSquared<3>(p) * ((1 - kRelMargin) * (1 - kRelMargin));
+    return depth * depth < d2 * ((1 - kRelMargin) * (1 - kRelMargin));
 }
 
 [[gnu::always_inline]] inline bool OcclusionBuffer3D::canHide(const Vec3& p) const {
@@ -105,7 +108,7 @@ const Silhouettes& silhouettes() {
 }
 
 bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f, bool forSeams,
-                                     double coveredBelow) const {
+                                     double coveredBelow, bool cornerWitnesses) const {
     // The box's points in the view at distance >= nearest have z >= zMin (zMinOf), so the image of the box
     // clipped to the half-space z >= zMin holds every pixel that can show one of them. The clipped box is a
     // convex polytope whose vertices are the corners with z >= zMin and the points where the box's edges
@@ -118,12 +121,38 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
     for (int k = 0; k < 8; ++k) front |= int(zc[k] >= zMin) << k;
     const bool anyFront = front != 0, allFront = front == 0xFF;
     f.n = 0;
-    f.covered = false;
+    f.covered = f.cornersRead = f.cornerSeen = false;
     if (!(zMin > 0)) {
         f.rect = wholeImage();
         return true;
     }
     if (!anyFront) return false; // no point of the box in view
+    // An occludee's corners are witnesses (hidden(), whose refinement reads them otherwise): a corner in
+    // view whose pixel is not covered nearer than it fails every test of the box, the rectangle's, the
+    // polygon's and the exact one (its pixel is in the footprint, and each test needs that pixel nearer
+    // than the box's nearest point, or than the entry along the corner's ray, both at most the corner's
+    // distance). One pixel each, before the footprint's pixels: a box seen at a corner (a brick, a voxel
+    // box at the edge of a wall, a TBV's voxels in view) stops there. A box wholly in front of z = zMin
+    // reads them from its projections below, once its rectangle is known to span more than 2 x 2 pixels
+    // and not to be covered (a hidden box, or a smaller one, is decided at less cost by the rectangle's
+    // scan; the refinement reads them then).
+    const bool witnesses = cornerWitnesses && coveredBelow > 0;
+    const double sx[2] = {lo.x * lo.x, hi.x * hi.x}, sy[2] = {lo.y * lo.y, hi.y * hi.y}, sz[2] = {lo.z * lo.z, hi.z * hi.z};
+    auto seen = [&](int k, double x, double y) {
+        std::size_t pixel;
+        return !canHideAt(x, y, sx[k & 1] + sy[(k >> 1) & 1] + sz[k >> 2], pixel);
+    };
+    if (witnesses && !allFront) {
+        f.cornersRead = true;
+        for (int k = 0; k < 8; ++k) {
+            if (!(zc[k] > 0)) continue; // behind the camera: no pixel, no verdict
+            const double inv = 1.0 / zc[k];
+            if (seen(k, xc[k] * inv, yc[k] * inv)) {
+                f.cornerSeen = true;
+                return true;
+            }
+        }
+    }
     double px[20], py[20];
     int n = 0;
     auto add = [&](double x, double y, double z) {
@@ -173,6 +202,14 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
     if (coveredBelow > 0 && scanFootprint(f, coveredBelow)) {
         f.covered = true;
         return true;
+    }
+    if (witnesses && allFront) {
+        f.cornersRead = true;
+        for (int k = 0; k < 8; ++k)
+            if (seen(k, px[k], py[k])) {
+                f.cornerSeen = true;
+                return true;
+            }
     }
     // A box wholly in front of the plane, seen from outside every slab's boundary plane: its image's
     // vertices from the table (Silhouettes, above), oriented counter-clockwise.
@@ -359,8 +396,9 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
         // the box, which contains the polytope: conservative).
         lo = bounds.min - grow - m_apex;
         hi = bounds.max + grow - m_apex;
-        inView = footprintOf(lo, hi, zMinOf(nearest), f, false, nearest);
+        inView = footprintOf(lo, hi, zMinOf(nearest), f, false, nearest, true);
     }
+    if (f.cornerSeen) return false;
     if (!inView || f.covered || scanFootprint(f, nearest)) {
         ++m_stats.hidden;
         return true;
@@ -390,7 +428,7 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
             d[a] = r;
             if (!canHide(centre + d) || !canHide(centre - d)) return false;
         }
-    } else {
+    } else if (!f.cornersRead) { // (else footprintOf read them)
         for (int k = 0; k < 8; ++k)
             if (!canHide(Vec3{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z})) return false;
     }

@@ -77,6 +77,9 @@ struct ImageFootprint3D {
     double padX = 0, padY = 0;
     double x[kMaxVertices], y[kMaxVertices];
     bool covered = false; // footprintOf with coveredBelow: the rectangle alone proved the test (n = 0)
+    // footprintOf with cornerWitnesses: the box's corners were read as witnesses (cornersRead), and one
+    // of them was seen (cornerSeen: canHide false there, so the occludee test cannot pass).
+    bool cornersRead = false, cornerSeen = false;
 };
 
 /// A box drawn into the image this frame, kept for seam fusion (OcclusionSeams3D.cpp). (Internal to the
@@ -221,8 +224,12 @@ private:
     /// forSeams: always compute the polygon (otherwise a footprint of 2 x 2 pixels or less keeps n = 0).
     /// coveredBelow: when > 0 and every pixel of the footprint's rectangle has a depth below it, stops with
     /// the rectangle (n = 0) and f.covered set: an occludee test that the rectangle passes needs no polygon.
+    /// cornerWitnesses (with coveredBelow > 0: the box is the occludee tested, and coveredBelow its nearest
+    /// distance): the box's corners are read as witnesses (f.cornersRead) before its polygon, unless its
+    /// rectangle spans 2 x 2 pixels or less or is covered; when one is seen (f.cornerSeen) it stops there
+    /// and the test fails.
     bool footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f, bool forSeams = false,
-                     double coveredBelow = 0) const;
+                     double coveredBelow = 0, bool cornerWitnesses = false) const;
     /// The columns of pixel row j the footprint can touch; false when none.
     bool rowSpan(const Footprint& f, int j, int& i0, int& i1) const;
     /// Occludee tests (OcclusionBuffer3D.cpp): the smallest z of a point in view at distance >= nearest;
@@ -233,6 +240,9 @@ private:
     bool scanFootprint(const Footprint& f, double nearest) const;
     /// (Inline, defined in OcclusionTests3D.cpp, the one file that calls it.)
     inline bool canHide(const Vec3& p) const;
+    /// canHide for a point in front of the camera already projected: image coordinates (x, y), squared
+    /// distance d2 from the apex. `pixel` as below.
+    inline bool canHideAt(double x, double y, double d2, std::size_t& pixel) const;
     /// As canHide; `pixel` gets the index of p's pixel when it has one (else it is left as it was).
     inline bool canHide(const Vec3& p, std::size_t& pixel) const;
     /// The exact per-pixel test of a sphere (apex-relative centre, grown radius) wholly in front of the
