@@ -333,7 +333,7 @@ double OcclusionBuffer3D::nearestDistance(const Shape<3>& shape, double grow) co
 bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distance, bool refine) {
     if (!m_active) return false;
     ++m_stats.tested;
-    Vec3 lo, hi; // the shape's bounding box grown, relative to the apex
+    Vec3 lo(0.0), hi(0.0); // the shape's bounding box grown, relative to the apex
     const double nearest = distance * (1 - kRelMargin);
     if (!(nearest > 0)) return false;
     // The centre (of the ball, or of the box) is a point of the shape: when its own pixel is not covered
@@ -342,24 +342,30 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
     // The same for the shape's point nearest to the camera, where a shape in view is most often seen
     // (a ball's, or its bounding box's: the tests below are for that box).
     const Box<3> bounds = boundsOf<3>(shape); // (the box tests below read it too)
+    std::size_t centrePixel = std::size_t(-1);
+    // Both witnesses behind some occluder: the box occluder at the centre may prove it at once, in object
+    // space (a ball by its bounding box, which holds it). A ball in front of the camera asks after its
+    // tangent rectangle's scan instead, which is cheaper where the image alone hides it (a ball in a
+    // cloud of others): either proof hides it, so the verdict is the same.
+    bool ballInFront = false;
+    auto shadowProof = [&] {
+        if (!shadowed(bounds.min - grow - m_apex, bounds.max + grow - m_apex, centrePixel)) return false;
+        ++m_stats.hidden;
+        ++m_stats.shadowed;
+        return true;
+    };
     {
         const Box<3>& b = bounds;
-        std::size_t centrePixel = std::size_t(-1);
         if (!canHide(0.5 * (b.min + b.max) - m_apex, centrePixel)) return false;
         if (const auto* ball = std::get_if<Ball<3>>(&shape)) {
             const Vec3 c = ball->center - m_apex;
             const double r = (ball->radius + grow) * (1 - 1e-6), len = std::sqrt(lengthSquared<3>(c));
             if (len > r && !canHide(c * (1 - r / len))) return false;
+            ballInFront = glm::dot(c, m_forward) > (ball->radius + grow) * 1.001;
         } else if (!canHide(glm::clamp(Vec3(0.0), b.min - grow - m_apex, b.max + grow - m_apex))) {
             return false;
         }
-        // Both witnesses behind some occluder: the box occluder at the centre may prove it at once, in
-        // object space (a ball by its bounding box, which holds it).
-        if (shadowed(b.min - grow - m_apex, b.max + grow - m_apex, centrePixel)) {
-            ++m_stats.hidden;
-            ++m_stats.shadowed;
-            return true;
-        }
+        if (!ballInFront && shadowProof()) return true;
     }
     Footprint f;
     bool inView;
@@ -370,7 +376,7 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
         hi = c + rad;
         // In front of the camera: the exact per-pixel test (hiddenBall). Otherwise its bounding box's
         // clipped footprint, refined into parts below.
-        if (glm::dot(c, m_forward) > rad * 1.001) {
+        if (ballInFront) {
             // First the tangent rectangle against the sphere's one nearest distance (the sphere behind a
             // closed wall: every pixel passes, with no arithmetic per pixel), then witnesses (the six
             // poles, each a point of the sphere: its pixel must be covered nearer than it), then the
@@ -378,6 +384,7 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
             f.n = 0;
             f.rect = rectOf(c, rad);
             bool h = scanFootprint(f, nearest);
+            if (!h && shadowProof()) return true;
             if (!h) {
                 const double rw = rad * (1 - 1e-6);
                 for (int a = 0; a < 3; ++a) {
