@@ -43,7 +43,10 @@ void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, Cul
         // over one of its kind is a plain copy (assignShape), where clear() and emplace_back() cost two
         // variant visits per object (2 % of the clusters' instructions).
         std::uint32_t shapes = 0;
-        for (ObjectSlot slot : vs.pvsSlots) {
+        const auto& pvsSlots = vs.pvsSlots;
+        for (std::size_t k = 0; k < pvsSlots.size(); ++k) {
+            if (k + kRecordsAhead < pvsSlots.size()) prefetchRecordTests(pvsSlots[k + kRecordsAhead]);
+            const ObjectSlot slot = pvsSlots[k];
             const Record& r = records[slot];
             if (r.state != State::Tracked && r.state != State::Static) continue;
             const double slack = grid.conversionSlack(r.at.worldMagnitude) + view.slack();

@@ -120,8 +120,10 @@ template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, std::span<cons
                 }
             }
         }
-        // Last frame's tracked objects: PVS members are re-placed, the others get a TBV.
+        // Last frame's tracked objects: PVS members are re-placed, the others get a TBV. (Their records
+        // fetched a few ahead, as the renewals' below.)
         for (std::size_t i = 0; i < tracked.size();) {
+            if (i + kRecordsAhead < tracked.size()) prefetchRecord(tracked[i + kRecordsAhead]);
             const ObjectSlot slot = tracked[i];
             Record& r = records[slot];
             const Placement* p = fetch(slot, st);
@@ -163,7 +165,13 @@ template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, std::span<cons
         }
         // Expired TBVs: a new validity around the current placement (or back into O and I).
         auto& bucket = expiring[frameIndex % expiring.size()];
-        for (const auto& [slot, generation] : bucket) {
+        // Each renewal reads and rewrites its object's record (its placement, its TBV), at a slot of no
+        // order: with many hidden movers (the 100k room: 85 MB of records, 9,600 renewals a frame) the
+        // wait for its first line was nine tenths of this loop's own time in perf. The record a few
+        // renewals ahead is fetched meanwhile (a hint only: nothing is read from it here).
+        for (std::size_t e = 0; e < bucket.size(); ++e) {
+            if (e + kRecordsAhead < bucket.size()) prefetchRecord(bucket[e + kRecordsAhead].first);
+            const auto [slot, generation] = bucket[e];
             Record& r = records[slot];
             if (!r.alive || r.state != State::Hidden || r.tbvGeneration != generation || r.tbvExpiry != frameIndex)
                 continue;
