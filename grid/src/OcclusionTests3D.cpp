@@ -333,7 +333,7 @@ double OcclusionBuffer3D::nearestDistance(const Shape<3>& shape, double grow) co
 bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distance, bool refine) {
     if (!m_active) return false;
     ++m_stats.tested;
-    Vec3 lo(0.0), hi(0.0); // the shape's bounding box grown, relative to the apex
+    Vec3 lo, hi; // the shape's bounding box grown, relative to the apex
     const double nearest = distance * (1 - kRelMargin);
     if (!(nearest > 0)) return false;
     // The centre (of the ball, or of the box) is a point of the shape: when its own pixel is not covered
