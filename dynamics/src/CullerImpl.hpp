@@ -286,7 +286,7 @@ template <int D> struct Culler<D>::Impl {
     void attachHidden(ObjectSlot slot, const Placement& p, const TbvRegion<D>& region, std::uint64_t expiry);
     const Placement* fetch(ObjectSlot slot, CullStats& st);
     /// Asks the processor to bring a record into the cache (a hint: no effect on results). Loops over
-    /// slots in no order (renewals, the buffer pass, a brick's objects) call it kRecordsAhead slots ahead:
+    /// slots in no order (the renewals, the tracked objects, the buffer pass) call it kRecordsAhead ahead:
     /// a record is 850 bytes in 3D (three shapes of 208), and with thousands of objects the wait for
     /// each one's first line was most of such a loop's time. Two ahead: the 100k room measured 4 % faster
     /// than with four (whose 56 lines in flight left prefetches waiting for a free fill buffer in perf)

@@ -310,7 +310,9 @@ private:
         const int aF = capFace / 2;
         int f1, f2;
         otherAxes(aF, f1, f2);
-        Vec3 lo(0.0), hi(0.0); // the cores' box, centre-relative (all three axes set below; zeroed so that GCC 12 at -O2 sees it)
+        // The cores' box, centre-relative. Its three axes are set below (zeroed first: GCC 12 at -O2 cannot
+        // follow the permutation and warned).
+        Vec3 lo(0.0), hi(0.0);
         lo[aF] = capFace % 2 == 0 ? kk - 0.5 : -kk - 0.5;
         hi[aF] = lo[aF] + 1.0;
         lo[f1] = core.u0;
