@@ -137,10 +137,10 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
     // and not to be covered (a hidden box, or a smaller one, is decided at less cost by the rectangle's
     // scan; the refinement reads them then).
     const bool witnesses = cornerWitnesses && coveredBelow > 0;
-    const double sx[2] = {lo.x * lo.x, hi.x * hi.x}, sy[2] = {lo.y * lo.y, hi.y * hi.y}, sz[2] = {lo.z * lo.z, hi.z * hi.z};
-    auto seen = [&](int k, double x, double y) {
+    auto seen = [&](int k, double x, double y) { // corner k, projected to (x, y)
         std::size_t pixel;
-        return !canHideAt(x, y, sx[k & 1] + sy[(k >> 1) & 1] + sz[k >> 2], pixel);
+        const Vec3 q{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+        return !canHideAt(x, y, lengthSquared<3>(q), pixel);
     };
     if (witnesses && !allFront) {
         f.cornersRead = true;
