@@ -30,6 +30,12 @@
 //                      [--variant NAME]   (only that variant: new, fullimg, adaptbuf, freshbuf, img128, nobuf, lazy, old, rings, vfc;
 //                                       for profiling)
 //                      [--voxel-size V]   (every scene's grid re-made with voxels of V world units)
+//                      [--repeats R]      (each scene run R times, fresh cullers each time: the tables give the
+//                                          median over the runs of each run's median, the shared machine's
+//                                          load moving whole runs)
+//                      [--csv FILE] [--plot FILE.png]   (one CSV row per scene and variant; the plot, drawn
+//                                          by scripts/plot_classes.gp from the CSV: time per class against
+//                                          Masked Occlusion Culling's figures, where the time goes, |PVS|/|visible|)
 //
 // --quick: 3 measured frames after 1 warm-up, every frame checked, small object counts, room-1k only
 // among the rooms and a 256^3 empty grid (a smoke test: a few seconds). Output: a header (machine,
@@ -604,6 +610,8 @@ struct Config {
     bool quick = false;
     std::string variant; // --variant NAME: only this one (profiling); empty: all
     double voxelSize = 0; // --voxel-size V: every scene's grid re-made with voxels of V world units (0: the scene's)
+    int repeats = 1;      // --repeats R
+    std::string csv, plot; // --csv FILE, --plot FILE.png
 };
 
 /// One variant's counts per frame, summed over the measured frames and then divided into means.
@@ -627,14 +635,18 @@ struct FrameMeans {
         renewed += double(s.tbvsRenewed);
         revealed += double(s.tbvsRevealed);
     }
+    static constexpr double FrameMeans::*kFields[] = {
+        &FrameMeans::voxels,  &FrameMeans::nodes,   &FrameMeans::empty,         &FrameMeans::hidden,
+        &FrameMeans::bricks,  &FrameMeans::pvs,     &FrameMeans::queries,       &FrameMeans::tracked,
+        &FrameMeans::hiddenObjects, &FrameMeans::created, &FrameMeans::renewed, &FrameMeans::revealed};
     FrameMeans over(double n) const {
         FrameMeans m = *this;
-        for (double FrameMeans::*f : {&FrameMeans::voxels, &FrameMeans::nodes, &FrameMeans::empty, &FrameMeans::hidden,
-                                      &FrameMeans::bricks, &FrameMeans::pvs, &FrameMeans::queries, &FrameMeans::tracked,
-                                      &FrameMeans::hiddenObjects, &FrameMeans::created, &FrameMeans::renewed,
-                                      &FrameMeans::revealed})
-            m.*f /= n;
+        for (double FrameMeans::*f : kFields) m.*f /= n;
         return m;
+    }
+    FrameMeans& operator+=(const FrameMeans& o) {
+        for (double FrameMeans::*f : kFields) this->*f += o.*f;
+        return *this;
     }
 };
 
@@ -651,6 +663,7 @@ struct FrameTimes {
 
 struct Row {
     std::string scene, variant;
+    int dim = 3;
     bool hierarchical = true; // the brick walk ran (its node counts are printed)
     double medianMs = 0, p90Ms = 0;
     double updateMs = 0, bufferMs = 0, walkMs = 0; // medians of the parts (where the time goes)
@@ -775,6 +788,7 @@ template <int D> void runScene(World<D>& w, const Config& cfg) {
     for (std::size_t k = 0; k < nv; ++k) {
         Row row;
         row.scene = w.name;
+        row.dim = D;
         row.variant = variants[k].name;
         row.hierarchical = variants[k].options.hierarchical;
         row.medianMs = percentile(times[k].cull, 0.5);
@@ -797,6 +811,82 @@ template <int D> void runScene(World<D>& w, const Config& cfg) {
                   refMs / std::max(1, checked), firstRefMs, visibleSum / std::max(1, checked), counted,
                   checked - counted, nv, buildMs, double(rssKiB()) / 1024.0);
     g_notes.emplace_back(buf);
+}
+
+/// Rows of the same scene and variant from --repeats runs merged into one, in the order they first
+/// appear: times are the median over the runs of each run's median (p90, parts likewise), counts and
+/// |PVS|/|visible| the mean over the runs, misses the sum.
+std::vector<Row> mergeRepeats(const std::vector<Row>& rows) {
+    std::vector<Row> out;
+    for (const Row& r : rows) {
+        const bool seen = std::any_of(out.begin(), out.end(), [&](const Row& o) { return o.scene == r.scene && o.variant == r.variant; });
+        if (seen) continue;
+        std::vector<double> med, p90, upd, buf, walk;
+        FrameMeans sum;
+        double ratioSum = 0;
+        int ratioRuns = 0, runs = 0;
+        Row m = r;
+        m.misses = 0;
+        for (const Row& x : rows) {
+            if (x.scene != r.scene || x.variant != r.variant) continue;
+            ++runs;
+            med.push_back(x.medianMs);
+            p90.push_back(x.p90Ms);
+            upd.push_back(x.updateMs);
+            buf.push_back(x.bufferMs);
+            walk.push_back(x.walkMs);
+            sum += x.mean;
+            if (x.ratio >= 0) ratioSum += x.ratio, ++ratioRuns;
+            m.misses += x.misses;
+        }
+        m.medianMs = percentile(med, 0.5);
+        m.p90Ms = percentile(p90, 0.5);
+        m.updateMs = percentile(upd, 0.5);
+        m.bufferMs = percentile(buf, 0.5);
+        m.walkMs = percentile(walk, 0.5);
+        m.mean = sum.over(runs);
+        m.ratio = ratioRuns > 0 ? ratioSum / ratioRuns : -1;
+        out.push_back(m);
+    }
+    return out;
+}
+
+/// [ms] Masked Occlusion Culling's figure for the scene class, from issue #10's table (Hasselgren,
+/// Andersson and Akenine-Möller 2016; AVX2, one thread, 640 x 384, occluders front to back, measured by
+/// the issue's author on the same kind of scene and machine; the 3D cities: the top of its 0.015-0.05
+/// range); -1 where the issue gives none. The plot draws them beside the variants' times.
+double mocMs(const std::string& scene) {
+    if (scene == "room-1k") return 0.048;
+    if (scene == "room-100k") return 3.2;
+    if (scene == "clusters") return 0.56;
+    if (scene == "game") return 0.20;
+    if (scene == "large") return 0.45;
+    if (scene == "city3d") return 0.05;
+    return -1;
+}
+
+/// --csv: one row per scene and variant, the tables' columns, the scene's ordinal (for the plot's x axis),
+/// Masked Occlusion Culling's figure (mocMs) and the scene's vfc median (the plot's unit for "never slower
+/// than --no-occlusion"; -1 when vfc did not run). Returns false when the file cannot be written.
+bool writeCsv(const std::string& path, const std::vector<Row>& rows, int repeats) {
+    std::ofstream out(path);
+    out << "scene,scene_no,dim,variant,median_ms,p90_ms,update_ms,walk_ms,buffer_ms,voxels,nodes,bricks,pvs,"
+           "pvs_over_visible,misses,moc_ms,runs,vfc_ms\n";
+    std::vector<std::string> scenes;
+    for (const Row& r : rows) {
+        if (std::find(scenes.begin(), scenes.end(), r.scene) == scenes.end()) scenes.push_back(r.scene);
+        const std::size_t no = std::size_t(std::find(scenes.begin(), scenes.end(), r.scene) - scenes.begin());
+        double vfcMs = -1;
+        for (const Row& v : rows)
+            if (v.scene == r.scene && v.variant == "vfc") vfcMs = v.medianMs;
+        char buf[512];
+        std::snprintf(buf, sizeof buf, "%s,%zu,%d,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.0f,%.0f,%.1f,%.2f,%.4f,%llu,%.3f,%d,%.4f\n",
+                      r.scene.c_str(), no, r.dim, r.variant.c_str(), r.medianMs, r.p90Ms, r.updateMs, r.walkMs, r.bufferMs,
+                      r.mean.voxels, r.mean.nodes, r.mean.bricks, r.mean.pvs, r.ratio, (unsigned long long)r.misses,
+                      mocMs(r.scene), repeats, vfcMs);
+        out << buf;
+    }
+    return bool(out);
 }
 
 std::string fmt(const char* f, double v) {
@@ -839,7 +929,7 @@ void printBreakdown() {
 [[noreturn]] void usageError(const std::string& what) {
     std::fprintf(stderr,
                  "rgvc_bench_classes: %s (usage: rgvc_bench_classes [--scene NAME|all] [--frames N] "
-                 "[--warmup W] [--ref-every K] [--quick])\n",
+                 "[--warmup W] [--ref-every K] [--quick] [--repeats R] [--csv FILE] [--plot FILE.png])\n",
                  what.c_str());
     std::exit(2);
 }
@@ -875,13 +965,17 @@ int main(int argc, char** argv) {
         else if (a == "--no-reference") cfg.noReference = true;
         else if (a == "--quick") cfg.quick = true;
         else if (a == "--variant") cfg.variant = value();
+        else if (a == "--repeats") cfg.repeats = parseInt(a, value(), 1);
+        else if (a == "--csv") cfg.csv = value();
+        else if (a == "--plot") cfg.plot = value();
         else if (a == "--voxel-size") {
             cfg.voxelSize = std::atof(value());
             if (!(cfg.voxelSize > 0) || !std::isfinite(cfg.voxelSize)) usageError("--voxel-size needs a positive number");
         }
         else if (a == "--help" || a == "-h") {
             std::printf("usage: rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] "
-                        "[--no-reference] [--quick] [--variant NAME] [--voxel-size V]\nscenes:");
+                        "[--no-reference] [--quick] [--variant NAME] [--voxel-size V] [--repeats R] [--csv FILE] "
+                        "[--plot FILE.png]\nscenes:");
             for (const char* s : kScenes)
                 std::printf(" %s", s);
             std::printf("\n");
@@ -891,6 +985,7 @@ int main(int argc, char** argv) {
     if (scene != "all" && std::find_if(std::begin(kScenes), std::end(kScenes),
                                        [&](const char* s) { return scene == s; }) == std::end(kScenes))
         usageError("unknown scene '" + scene + "'");
+    if (!cfg.plot.empty() && cfg.csv.empty()) usageError("--plot needs --csv (the plot is drawn from it)");
     if (cfg.quick) {
         if (!framesGiven) cfg.frames = 3;
         if (!warmupGiven) cfg.warmup = 1;
@@ -914,8 +1009,11 @@ int main(int argc, char** argv) {
     // Each scene is built only when wanted (the large ones take seconds and GiBs to set up), then run.
     auto run = [&](const char* name, auto&& make) {
         if (!wanted(name)) return;
-        auto w = make();
-        runScene(w, cfg);
+        for (int r = 0; r < cfg.repeats; ++r) { // a fresh scene each run: the runs move it from frame 0
+            if (cfg.repeats > 1 && g_progress) std::fprintf(stderr, "\r  %s: run %d of %d   ", name, r + 1, cfg.repeats);
+            auto w = make();
+            runScene(w, cfg);
+        }
     };
     try {
         run("room-1k", [&] { return roomScene("room-1k", 1000); });
@@ -941,8 +1039,28 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "rgvc_bench_classes: %s\n", e.what());
         return 1;
     }
+    if (cfg.repeats > 1) {
+        g_rows = mergeRepeats(g_rows);
+        std::printf("\n(each scene run %d times, fresh cullers each time: times are the median over the runs of each "
+                    "run's median; counts and |PVS|/|visible| the mean over the runs)\n", cfg.repeats);
+    }
     printTable();
     printBreakdown();
+    if (!cfg.csv.empty()) {
+        if (!writeCsv(cfg.csv, g_rows, cfg.repeats)) {
+            std::fprintf(stderr, "rgvc_bench_classes: cannot write %s\n", cfg.csv.c_str());
+            return 1;
+        }
+        std::printf("\nCSV: %s\n", cfg.csv.c_str());
+    }
+    if (!cfg.plot.empty()) {
+        const PlotStatus ps = runGnuplot(RGVC_SOURCE_DIR "/scripts/plot_classes.gp", {{"csv", cfg.csv}, {"out", cfg.plot}});
+        if (ps != PlotStatus::Drawn) {
+            std::fprintf(stderr, "rgvc_bench_classes: no plot: %s\n", plotStatusText(ps));
+            return 1;
+        }
+        std::printf("plot: %s\n", cfg.plot.c_str());
+    }
     std::printf("\nreference notes:\n");
     for (const std::string& n : g_notes)
         std::printf("- %s\n", n.c_str());

@@ -1,5 +1,5 @@
-// Timing, machine and progress helpers shared by the benchmarks (rgvc_bench2d, rgvc_bench3d,
-// rgvc_bench_dynamic, rgvc_bench_gl).
+// Timing, machine, progress and plotting helpers shared by the benchmarks (rgvc_bench2d, rgvc_bench3d,
+// rgvc_bench_dynamic, rgvc_bench_gl, rgvc_bench_classes, rgvc_sweep).
 #pragma once
 
 #include <rgvc/config.hpp>
@@ -59,6 +59,36 @@ inline std::string machine() {
             break;
         }
     return cpu + " (rgvc built for " RGVC_SIMD_LEVEL ")";
+}
+
+/// What runGnuplot did.
+enum class PlotStatus { Drawn, Failed, NoGnuplot, BadArgument };
+
+/// Runs `gnuplot -e "name='value'; ..." 'script'` (the scripts in scripts/ read their file names from such
+/// variables). A missing gnuplot is PlotStatus::NoGnuplot, for the caller to report while keeping its CSVs;
+/// a value or script path holding a quote is refused (BadArgument) rather than passed to the shell.
+inline PlotStatus runGnuplot(const std::string& script, const std::vector<std::pair<std::string, std::string>>& vars) {
+    auto unsafe = [](const std::string& v) { return v.find_first_of("'\"\\$`") != std::string::npos; };
+    if (unsafe(script)) return PlotStatus::BadArgument;
+    std::string assignments;
+    for (const auto& [name, value] : vars) {
+        if (unsafe(name) || unsafe(value)) return PlotStatus::BadArgument;
+        assignments += name + "='" + value + "'; ";
+    }
+    if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) return PlotStatus::NoGnuplot;
+    const std::string cmd = "gnuplot -e \"" + assignments + "\" '" + script + "'";
+    return std::system(cmd.c_str()) == 0 ? PlotStatus::Drawn : PlotStatus::Failed;
+}
+
+/// Why a plot was not drawn, for messages ("" when it was).
+inline const char* plotStatusText(PlotStatus s) {
+    switch (s) {
+    case PlotStatus::Drawn: return "";
+    case PlotStatus::Failed: return "gnuplot failed";
+    case PlotStatus::NoGnuplot: return "gnuplot is not installed (apt-get install gnuplot-nox)";
+    case PlotStatus::BadArgument: return "a file name holds a quote, a backslash, $ or `";
+    }
+    return "";
 }
 
 /// A one-line progress bar on stdout, rewritten in place with '\r', for runs of minutes. Silent when

@@ -269,19 +269,9 @@ std::string joined(const std::vector<std::string>& v) {
 /// Runs gnuplot on the CSVs; a missing gnuplot is a message, not a failure.
 void runPlots(const FigureConfig& c) {
     if (!c.plots) return;
-    if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
-        std::printf("plots skipped: gnuplot is not installed (apt-get install gnuplot-nox); the CSVs are in %s\n",
-                    c.out.c_str());
-        return;
-    }
     const std::string script = c.gnuplotScript.empty() ? std::string(RGVC_SOURCE_DIR) + "/scripts/plot_fig5.gp" : c.gnuplotScript;
-    if (c.out.find('\'') != std::string::npos || script.find('\'') != std::string::npos) {
-        std::printf("plots skipped: the output folder or script path holds a quote\n");
-        return;
-    }
-    const std::string cmd = "gnuplot -e \"dir='" + c.out + "'; m5a='zb vfc rgvc-50x30x50 rgvc-100x60x100'; mwalk='" +
-                            joined(walkMethodNames()) + "'\" '" + script + "'";
-    if (std::system(cmd.c_str()) != 0) std::printf("plots: gnuplot failed (%s)\n", cmd.c_str());
+    const PlotStatus ps = runGnuplot(script, {{"dir", c.out}, {"m5a", "zb vfc rgvc-50x30x50 rgvc-100x60x100"}, {"mwalk", joined(walkMethodNames())}});
+    if (ps != PlotStatus::Drawn) std::printf("plots skipped: %s; the CSVs are in %s\n", plotStatusText(ps), c.out.c_str());
     else std::printf("plots: %s/fig5a.png, fig5b.png, fig5c.png (where their CSVs exist)\n", c.out.c_str());
 }
 

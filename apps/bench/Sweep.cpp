@@ -197,10 +197,9 @@ int main(int argc, char** argv) {
     }
     if (!args.plot.empty()) {
         if (args.csv.empty()) usage("--plot needs --csv");
-        const std::string cmd = "gnuplot -e \"csv='" + args.csv + "'; out='" + args.plot + "'\" '" RGVC_SOURCE_DIR
-                                "/scripts/plot_sweep.gp'";
-        if (std::system(cmd.c_str()) != 0) {
-            std::fprintf(stderr, "rgvc_sweep: gnuplot failed (%s)\n", cmd.c_str());
+        const PlotStatus ps = runGnuplot(RGVC_SOURCE_DIR "/scripts/plot_sweep.gp", {{"csv", args.csv}, {"out", args.plot}});
+        if (ps != PlotStatus::Drawn) {
+            std::fprintf(stderr, "rgvc_sweep: no plot: %s\n", plotStatusText(ps));
             return 1;
         }
         std::printf("plot: %s\n", args.plot.c_str());
