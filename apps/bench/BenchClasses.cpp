@@ -27,8 +27,8 @@
 // inside an object (from inside one the reference sees that object only).
 //
 //   rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] [--no-reference] [--quick]
-//                      [--variant NAME]   (only that variant: new, fullimg, adaptbuf, freshbuf, img128, nobuf, lazy, old, rings, vfc;
-//                                       for profiling)
+//                      [--variant NAME[,NAME...]]   (only those variants: new, fullimg, adaptbuf, freshbuf, img128,
+//                                       nobuf, lazy, old, rings, vfc; for profiling, or to set up fewer cullers)
 //                      [--voxel-size V]   (every scene's grid re-made with voxels of V world units)
 //                      [--repeats R]      (each scene run R times, fresh cullers each time: the tables give the
 //                                          median over the runs of each run's median, the shared machine's
@@ -608,7 +608,7 @@ struct Config {
     int frames = 60, warmup = 5, refEvery = 0; // refEvery 0: chosen from the first check's cost
     bool noReference = false;                  // --no-reference: timing only (profiling), no accuracy columns
     bool quick = false;
-    std::string variant; // --variant NAME: only this one (profiling); empty: all
+    std::string variant; // --variant NAME[,NAME...]: only these (profiling, or fewer cullers); empty: all
     double voxelSize = 0; // --voxel-size V: every scene's grid re-made with voxels of V world units (0: the scene's)
     int repeats = 1;      // --repeats R
     std::string csv, plot; // --csv FILE, --plot FILE.png
@@ -712,7 +712,9 @@ template <int D> void runScene(World<D>& w, const Config& cfg) {
     }
     std::vector<Variant<D>> variants = variantsFor<D>();
     if (!cfg.variant.empty()) {
-        std::erase_if(variants, [&](const Variant<D>& v) { return cfg.variant != v.name; });
+        // A comma-separated list; a name of the other dimension's variants (rings, old) just matches nothing here.
+        const std::string list = "," + cfg.variant + ",";
+        std::erase_if(variants, [&](const Variant<D>& v) { return list.find("," + std::string(v.name) + ",") == std::string::npos; });
         if (variants.empty()) return; // not a variant of this dimension
     }
     const std::size_t nv = variants.size();
@@ -974,7 +976,7 @@ int main(int argc, char** argv) {
         }
         else if (a == "--help" || a == "-h") {
             std::printf("usage: rgvc_bench_classes [--scene NAME|all] [--frames N] [--warmup W] [--ref-every K] "
-                        "[--no-reference] [--quick] [--variant NAME] [--voxel-size V] [--repeats R] [--csv FILE] "
+                        "[--no-reference] [--quick] [--variant NAME[,NAME...]] [--voxel-size V] [--repeats R] [--csv FILE] "
                         "[--plot FILE.png]\nscenes:");
             for (const char* s : kScenes)
                 std::printf(" %s", s);
