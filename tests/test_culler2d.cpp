@@ -126,6 +126,32 @@ TEST_CASE("culler2d: occluderInset: O and the buffer use the shape shrunk by the
         }
 }
 
+TEST_CASE("culler2d: the refinement hides what the walk classified before its occluder was drawn", "[culler]") {
+    // A thin box (no voxel wholly inside it: O stays empty there) and a small circle behind it share one
+    // brick, the camera looking down -x; the walk reads the brick's ids row by row, x ascending, so it
+    // meets the circle first, when the image is still empty, and keeps it. The refinement pass hides it: by default (bufferFromTraversalImage) by testing it again
+    // against the walk's finished image, without one the fresh buffer drawn nearest first. Both agree with
+    // the exact reference, and without any refinement (occlusionBufferBins = 0) the circle stays, which is
+    // what makes this a test of the refinement.
+    const GridGeometry2 grid({0, 0}, 1.0, {64, 64});
+    const std::vector<ObjectDesc<2>> objects = {{1, Ball<2>{{9, 32.5}, 0.3}, true}, {2, Box<2>{{12.05, 32.05}, {12.95, 38.5}}, true}};
+    for (const double fov : {90.0, 60.0, 30.0, 20.0}) { // (at 20 degrees the walk has fewer bins than the buffer: a fresh one)
+        const Camera2 cam = makeCamera({20.5, 32.5}, {-1, 0}, fov);
+        INFO("fov " << fov);
+        for (const auto& [bins, fromWalk, hides] : {std::tuple{256, true, true}, std::tuple{256, false, true}, std::tuple{0, true, false}}) {
+            INFO("occlusionBufferBins " << bins << ", bufferFromTraversalImage " << fromWalk);
+            Culler2D culler = makeCuller(grid, objects, {.bufferFromTraversalImage = fromWalk, .occlusionBufferBins = bins});
+            CHECK_FALSE(culler.voxelState({12, 32}).opaque);
+            Tally tally(kCheck);
+            checkFrame(culler, objects, cam, "refinement", tally);
+            const CullResult& r = culler.cull(cam);
+            CHECK(contains(r.pvs, ObjectId(2)));
+            CHECK(contains(r.pvs, ObjectId(1)) == !hides);
+            if (bins > 0) CHECK(r.stats.bufferHidden == 1);
+        }
+    }
+}
+
 TEST_CASE("culler2d: no misses on mixed random scenes", "[culler]") {
     Tally t = runRandomScenes("mixed", 1, 1500, 3, ref::SceneOptions{});
     REQUIRE(t.frames == 9000);
