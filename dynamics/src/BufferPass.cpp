@@ -24,15 +24,20 @@ void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, Cul
     auto& bufferOrder = vs.bufferOrder;
     auto& bufferShapes = vs.bufferShapes;
     auto& pvsStamp = vs.pvsStamp;
-    // The objects whose pvsStamp the pass cleared leave result.pvs (the others' stamps stay).
-    auto removeMarked = [&](std::uint32_t removed) {
-        if (removed == 0) return;
-        vs.result.pvs.clear();
-        for (ObjectSlot slot : vs.pvsSlots)
-            if (pvsStamp[slot] == vs.stamp) {
-                if (records[slot].role != ObjectRole::Occluder) vs.result.pvs.push_back(records[slot].id);
-            }
-            else pvsStamp[slot] = vs.stamp; // back to "in this frame's grid PVS"
+    // Either form of the pass ends here: the objects whose pvsStamp it cleared leave result.pvs (the
+    // others' stamps stay), and its counts and time go to the statistics.
+    auto finish = [&](std::uint32_t tested, std::uint32_t removed, std::chrono::steady_clock::time_point t0) {
+        if (removed != 0) {
+            vs.result.pvs.clear();
+            for (ObjectSlot slot : vs.pvsSlots)
+                if (pvsStamp[slot] == vs.stamp) {
+                    if (records[slot].role != ObjectRole::Occluder) vs.result.pvs.push_back(records[slot].id);
+                }
+                else pvsStamp[slot] = vs.stamp; // back to "in this frame's grid PVS"
+        }
+        st.bufferTested = tested;
+        st.bufferHidden = removed;
+        st.bufferMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     };
     if constexpr (D == 2) {
         // CullerOptions::bufferFromTraversalImage in 2D. The walk drew every object it kept into its
@@ -62,10 +67,7 @@ void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, Cul
                     ++removed;
                 }
             }
-            removeMarked(removed);
-            st.bufferTested = tested;
-            st.bufferHidden = removed;
-            st.bufferMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            finish(tested, removed, t0);
             return;
         }
     }
@@ -179,10 +181,7 @@ void Culler<D>::Impl::refineWithBuffer(ViewScratch<S>& vs, const View& view, Cul
                 occlusionBuffer.draw(*b.occluder, b.slack); // (an occluder the walk drew is drawn when needed)
             }
         }
-        removeMarked(removed);
-        st.bufferTested = occlusionBuffer.stats().tested;
-        st.bufferHidden = removed;
-        st.bufferMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        finish(occlusionBuffer.stats().tested, removed, t0);
     }
 }
 
