@@ -553,6 +553,35 @@ TEST_CASE("dynamic: 3D with adaptiveImage: zero misses, the walk's image skipped
         CHECK(skipped >= 30);
         fails.check();
     }
+    // A cloud of spheres large enough to fill voxels of O (800 of radius 1.3-2.6 in a 50 x 30 x 50 grid,
+    // as scenes/spheres-3d.json), seen from a fixed camera: the image covers most of its pixels and hides
+    // a brick in four, but draws several fused boxes for each brick it hides, and the buffer's pass hides
+    // the same objects from a fresh image; so most frames walk without it (the rule before the draw bound
+    // walked without it in 15 of 60 frames of the scene file).
+    {
+        World<3> w;
+        w.seed = 80;
+        w.grid = GridGeometry3(Vec3(0.0), 1.0, IVec3{50, 30, 50});
+        std::mt19937_64 rng(80);
+        for (int i = 0; i < 800; ++i) {
+            const double r = sr::uniform(rng, 1.3, 2.6);
+            const Vec3 c{sr::uniform(rng, r, 50 - r), sr::uniform(rng, r, 30 - r), sr::uniform(rng, r, 50 - r)};
+            w.add(Ball<3>{c, r}, false, 0.35, 0.3 * randomUnit<3>(rng));
+        }
+        w.camLocal = {25.3, 15.2, 1.2};
+        w.camera = Camera3{.position = w.camLocal, .direction = {0, 0, 1}, .fovDeg = 60, .aspect = 1.5};
+        Tally tally;
+        Failures fails;
+        Session<3> s(w, adaptive, tally, fails);
+        s.referenceEvery = 6;
+        int skipped = 0;
+        for (int f = 0; f < 60; ++f) skipped += s.step(false).stats.imageSkipped;
+        tally.print("3D cloud of large spheres, adaptive image");
+        std::cout << "[dynamic]   walk without the image in " << skipped << " of 60 frames\n";
+        CHECK(tally.misses == 0);
+        CHECK(skipped >= 40);
+        fails.check();
+    }
     // A closed room (six static walls) with 300 movers outside: the image hides what the walk would
     // read, so it is never skipped, and nothing outside is reported.
     {

@@ -338,20 +338,24 @@ struct CullerOptions {
     /// alone lets one through now and then at a room's corner), and a skipped frame reports them.
     bool adaptiveBuffer = false;
     /// 3D hierarchical only: walk without the occlusion image on frames after it has not been paying.
-    /// After a frame whose image hid fewer occupied bricks in view than an eighth of those the walk
-    /// read, covered under nine tenths of its pixels and met no mesh occluder in view, the next 1, then
-    /// 2, 4 and at most 8 frames walk as view-frustum culling does (every TBV met in view revealed;
-    /// stats.imageSkipped), and the occlusion buffer's pass draws every kept object into a fresh image;
+    /// After a frame whose image met no mesh occluder in view, left some pixel open, and either hid
+    /// fewer occupied bricks in view than an eighth of those the walk read and covered under nine
+    /// tenths of its pixels, or drew more than three fused boxes of O per brick it hid (a cloud of
+    /// spheres filling voxels of O), the next 1, then 2, 4 and at most 8 frames walk as view-frustum
+    /// culling does (every TBV met in view revealed; stats.imageSkipped), and the occlusion buffer's
+    /// pass draws every kept object into a fresh image;
     /// a frame whose image pays resets the schedule. What is skipped is the walk's occlusion, never
     /// conservativeness; the buffer's pass still hides most of what the image would have.
-    /// Where the image pays: behind closed walls and in streets (nine tenths of the image covered), in
+    /// Where the image pays: behind closed walls and in streets (the whole image covered), in
     /// the game world's buildings, and wherever a mesh is in view (meshes occlude only through O, which
     /// the buffer's fresh image cannot draw). Where it does not: clouds of small objects and large, mostly
     /// empty worlds, where it hides almost nothing the walk would read and costs draws and tests (README,
-    /// "Scene classes": clusters and the large world 12-14 % fewer instructions). cull() only (cullViews'
-    /// views keep the image every frame). A skipped frame keeps in O and I the movers the image would have
-    /// given TBVs, and lets through what only the walk's fused boxes hide (seams between spheres):
-    /// tightness for time. false: the image every frame (the bench's `fullimg`).
+    /// "Scene classes": clusters and the large world 12-14 % fewer instructions), and clouds of larger
+    /// spheres, where it hides bricks but draws a fused box for each sphere's interior (scenes/
+    /// spheres-3d.json: 33 % fewer instructions). cull() only (cullViews' views keep the image every
+    /// frame). A skipped frame keeps in O and I the movers the image would have given TBVs, and lets
+    /// through what only the walk's fused boxes hide (seams between spheres): tightness for time.
+    /// false: the image every frame (the bench's `fullimg`).
     bool adaptiveImage = true;
     /// The output-sensitive core (BrickTraversal3D.hpp, BrickTraversal2D.hpp). The grid's 8^D bricks
     /// form an implicit octree (quadtree in 2D) whose nodes know whether anything (an id or a TBV) lies
