@@ -289,12 +289,15 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
         // a brick in four, but each sphere's interior is a fused box of its own (400 a frame in
         // scenes/spheres-3d.json), and the buffer's pass hides the same objects from a fresh image of the
         // spheres. Walls of boxes fuse into few large boxes, or none (a box object is drawn as itself).
-        // Measured per frame, draws (fused boxes or objects) / (hidden bricks + 1): where the image pays
-        // at most 1.8 (3D cities, the maze, rooms, the game world; fused boxes alone 0 in rooms and walls
-        // of unit boxes or 4-voxel tiles); spheres-3d 4-186 (median 15), nearly all fused boxes. Walking spheres-3d without the image cost 46 % fewer instructions at the same
-        // |PVS|; with the bound, 33 % fewer (the image is still tried every 1-8 frames). Cost only: a
-        // skipped image is never a miss.
-        constexpr double kFusedPerHiddenBrick = 3;
+        // Measured per frame with the image on every frame, fused boxes / (hidden bricks + 1) in frames
+        // that left a pixel open: where the image pays at most 0.68 (the 3D cities, the game world; 0 in
+        // the large world; rooms, the maze and streets cover every pixel); scenes/spheres-3d.json 14-139
+        // (median 26), the paper's spheres 1.5-49 (median 10), scenes/paper-walk-3d.json 1.1-66
+        // (median 12.5). Walking spheres-3d without the image cost 46 % fewer instructions at the same
+        // |PVS|; with the bound, 33 % fewer (the image is still tried every 1-8 frames); the paper's
+        // scene and paper-walk-3d 2-4 % fewer (a bound of 3: 0.7 % and 0). Cost only: a skipped image
+        // is never a miss.
+        constexpr double kFusedPerHiddenBrick = 1.5;
         const std::size_t pixels = std::size_t(image.rows()) * std::size_t(image.cols()), covered = image.coveredPixels();
         const bool cheap = double(ts.fusedBoxes) <= kFusedPerHiddenBrick * double(ts.bricksSkipped + 1);
         const bool pays = vs.meshInView || covered == pixels ||

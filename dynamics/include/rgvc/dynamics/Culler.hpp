@@ -340,7 +340,7 @@ struct CullerOptions {
     /// 3D hierarchical only: walk without the occlusion image on frames after it has not been paying.
     /// After a frame whose image met no mesh occluder in view, left some pixel open, and either hid
     /// fewer occupied bricks in view than an eighth of those the walk read and covered under nine
-    /// tenths of its pixels, or drew more than three fused boxes of O per brick it hid (a cloud of
+    /// tenths of its pixels, or drew more than 1.5 fused boxes of O per brick it hid (a cloud of
     /// spheres filling voxels of O), the next 1, then 2, 4 and at most 8 frames walk as view-frustum
     /// culling does (every TBV met in view revealed; stats.imageSkipped), and the occlusion buffer's
     /// pass draws every kept object into a fresh image;
