@@ -298,10 +298,12 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
         // scene and paper-walk-3d 2-4 % fewer (a bound of 3: 0.7 % and 0). Cost only: a skipped image
         // is never a miss.
         constexpr double kFusedPerHiddenBrick = 1.5;
-        const std::size_t pixels = std::size_t(image.rows()) * std::size_t(image.cols()), covered = image.coveredPixels();
         const bool cheap = double(ts.fusedBoxes) <= kFusedPerHiddenBrick * double(ts.bricksSkipped + 1);
-        const bool pays = vs.meshInView || covered == pixels ||
-                          ((8 * ts.bricksSkipped >= ts.bricksVisited || 10 * covered >= 9 * pixels) && cheap);
+        bool pays = vs.meshInView || (cheap && 8 * ts.bricksSkipped >= ts.bricksVisited);
+        if (!pays) { // (the count of covered pixels is a pass over the image: only when it decides)
+            const std::size_t pixels = std::size_t(image.rows()) * std::size_t(image.cols()), covered = image.coveredPixels();
+            pays = covered == pixels || (cheap && 10 * covered >= 9 * pixels);
+        }
         if (pays) {
             imageBackoff = 1;
         } else {
