@@ -323,6 +323,19 @@ struct StreetWalk {
         if (s < 3 * side) return {b - (s - 2 * side), b};
         return {a, b - (s - 3 * side)};
     }
+    /// The walk's camera in frame f: 0.75 per frame from arc length `start`, looking 4 ahead, the heading
+    /// swayed sideways by up to `sway` (relative) so that the view is never exactly along a street.
+    /// d: the unswayed heading (its length sets the 3D camera's downward tilt).
+    struct Pose {
+        Vec2 position, direction, d;
+    };
+    Pose pose(int f, double start, double sway) const {
+        const double s = start + 0.75 * f;
+        const Vec2 p = at(s), q = at(s + 4);
+        const double wobble = sway * std::sin(f / 7.0);
+        const Vec2 d = q - p;
+        return {p, {d.x - wobble * d.y, d.y + wobble * d.x}, d};
+    }
 };
 
 /// 6. A 96 x 24 x 96 box city: 8 x 8 blocks of 9 x 9 (streets 3 wide), each block four abutting buildings
@@ -350,12 +363,9 @@ World<3> city3dScene(int spheres) {
     }
     const StreetWalk walk{13.5, 73.5};
     w.camera = [walk](int f) {
-        const double s = 30 + 0.75 * f;
-        const Vec2 p = walk.at(s), q = walk.at(s + 4);
-        const double wobble = 0.15 * std::sin(f / 7.0);
-        const Vec2 d = q - p;
-        return camera3({p.x, 1.5, p.y},
-                       {d.x - wobble * d.y, -0.05 * std::sqrt(lengthSquared<2>(d)), d.y + wobble * d.x});
+        const StreetWalk::Pose v = walk.pose(f, 30, 0.15);
+        return camera3({v.position.x, 1.5, v.position.y},
+                       {v.direction.x, -0.05 * std::sqrt(lengthSquared<2>(v.d)), v.direction.y});
     };
     w.description = "box city, 256 buildings in 64 blocks, " + std::to_string(w.objects.size() - 257) +
                     " small moving spheres in the streets, camera walking at eye height";
@@ -407,13 +417,10 @@ World<2> city2dScene(int circles) {
         }
     const StreetWalk walk{18, 98};
     w.camera = [walk](int f) {
-        const double s = 40 + 0.75 * f;
-        const Vec2 p = walk.at(s), q = walk.at(s + 4);
-        const double wobble = 0.2 * std::sin(f / 7.0);
-        const Vec2 d = q - p;
+        const StreetWalk::Pose v = walk.pose(f, 40, 0.2);
         Camera2 c;
-        c.position = p;
-        c.direction = {d.x - wobble * d.y, d.y + wobble * d.x};
+        c.position = v.position;
+        c.direction = v.direction;
         c.fovDeg = 90;
         return c;
     };
