@@ -334,6 +334,114 @@ TEST_CASE("buffer: far boxes seen almost along an edge, drawn and tested against
     CHECK(hiddenBehind > 0);
 }
 
+TEST_CASE("buffer: a polytope's pixel depths bound every ray of the pixel, and an unturned obb covers what its box covers", "[buffer]") {
+    // OcclusionBuffer3D::drawPolytope, written plane by plane over a row's lattice points. Random oriented
+    // boxes and hulls in front of random cameras: for every pixel the draw covers, rays through its four
+    // corners and through random points of it must pass through the polytope's interior (its planes
+    // moved in by its tolerance) and enter it no farther than the pixel's depth (the image's one fact,
+    // OcclusionBuffer3D.hpp). And an oriented box without rotation is a box: its image must cover the
+    // same pixels at the same depths as the box's own slab test, up to the polytope's tolerance.
+    const std::uint64_t seed = 20261207;
+    std::mt19937_64 rng(seed);
+    std::uint64_t raysChecked = 0, pixelsCovered = 0, boxPixels = 0, obbPixels = 0, bad = 0, depthMismatch = 0;
+    for (int n = 0; n < 240; ++n) {
+        INFO("seed " << seed << " case " << n);
+        Camera3 cam = lookingAlongZ({50, 30, 0}, sd::uniform(rng, 30, 150), sd::uniform(rng, 0.5, 2.5));
+        cam.direction = glm::normalize(Vec3{sd::uniform(rng, -0.5, 0.5), sd::uniform(rng, -0.5, 0.5), 1.0});
+        cam.up = sd::unitVector(rng);
+        const ViewFrustum view(cam, kUnitGrid);
+        const int rows = std::array<int, 3>{16, 32, 64}[std::size_t(n % 3)];
+        const Vec3 centre = cam.position + cam.direction * sd::uniform(rng, 6, 60) + sd::unitVector(rng) * sd::uniform(rng, 0, 4);
+        ConvexPolytope poly;
+        if (n % 2 == 0) {
+            const Vec3 axis = sd::unitVector(rng);
+            const double angle = sd::uniform(rng, 0, kPi);
+            const std::array<double, 4> q{axis.x * std::sin(angle / 2), axis.y * std::sin(angle / 2), axis.z * std::sin(angle / 2),
+                                          std::cos(angle / 2)};
+            const Vec3 half{sd::uniform(rng, 0.2, 5), sd::uniform(rng, 0.2, 5), sd::uniform(rng, 0.2, 5)};
+            poly = makeOrientedBox(centre, half, q, "obb");
+        } else {
+            std::vector<Vec3> points;
+            const double r = sd::uniform(rng, 0.5, 5);
+            for (int k = sd::uniformInt(rng, 6, 24); k > 0; --k) points.push_back(centre + sd::unitVector(rng) * r * sd::uniform(rng, 0.3, 1));
+            poly = makeConvexHull(points, "hull");
+        }
+        OcclusionBuffer3D buffer;
+        REQUIRE(buffer.begin(view, rows));
+        buffer.draw(Shape<3>(poly), 0);
+        // The pixel lattice as begin() makes it: the view's rectangle enlarged by a relative 1e-6.
+        const double halfW = view.tanHalfWidth() * (1 + 1e-6), halfH = view.tanHalfHeight() * (1 + 1e-6);
+        const double pw = 2 * halfW / buffer.cols(), ph = 2 * halfH / buffer.rows();
+        // The ray apex + t d (|d| = 1) against the planes moved in by the tolerance: whether it passes
+        // through the interior, and where it enters.
+        auto enters = [&](const Vec3& d, double& entry) {
+            double e = 0, f = 1e300;
+            for (const HalfSpace& h : poly.planes) {
+                const double den = glm::dot(h.normal, d), c = h.offset - poly.tolerance - glm::dot(h.normal, cam.position);
+                if (den == 0) {
+                    if (!(c > 0)) return false;
+                } else if (den < 0) {
+                    e = std::max(e, c / den);
+                } else {
+                    f = std::min(f, c / den);
+                }
+            }
+            entry = e;
+            return e < f;
+        };
+        for (int j = 0; j < buffer.rows(); ++j)
+            for (int i = 0; i < buffer.cols(); ++i) {
+                const double depth = buffer.depthAt(i, j);
+                if (!std::isfinite(depth)) continue;
+                ++pixelsCovered;
+                for (int k = 0; k < 8; ++k) {
+                    // The corners (a hair inside, away from the neighbours' rounding), then random points.
+                    const double u = k < 4 ? ((k & 1) ? 1 - 1e-9 : 1e-9) : sd::uniform(rng, 0, 1);
+                    const double v = k < 4 ? ((k & 2) ? 1 - 1e-9 : 1e-9) : sd::uniform(rng, 0, 1);
+                    const double x = -halfW + (i + u) * pw, y = -halfH + (j + v) * ph;
+                    const Vec3 d = glm::normalize(view.forward() + x * view.right() + y * view.trueUp());
+                    double entry = 0;
+                    ++raysChecked;
+                    if (!enters(d, entry) || entry > depth * (1 + 1e-7)) {
+                        ++bad;
+                        UNSCOPED_INFO("pixel (" << i << ", " << j << ") depth " << depth << " ray " << k << " entry " << entry);
+                        CHECK(false);
+                    }
+                }
+            }
+        // The unturned obb against its box (both in front of the camera here; the box is drawn alone, so
+        // no seam fuses).
+        if (n % 2 == 0) {
+            const Vec3 half{sd::uniform(rng, 0.2, 5), sd::uniform(rng, 0.2, 5), sd::uniform(rng, 0.2, 5)};
+            const Box<3> box{centre - half, centre + half};
+            const double near = glm::length(glm::clamp(cam.position, box.min, box.max) - cam.position);
+            if (!(near > 0.5)) continue;
+            OcclusionBuffer3D a, b;
+            REQUIRE(a.begin(view, rows));
+            REQUIRE(b.begin(view, rows));
+            a.draw(Shape<3>(box), 0);
+            b.draw(Shape<3>(makeOrientedBox(centre, half, {0, 0, 0, 1}, "obb")), 0);
+            for (int j = 0; j < a.rows(); ++j)
+                for (int i = 0; i < a.cols(); ++i) {
+                    const double da = a.depthAt(i, j), db = b.depthAt(i, j);
+                    boxPixels += std::isfinite(da);
+                    obbPixels += std::isfinite(db);
+                    if (std::isfinite(da) && std::isfinite(db) && std::abs(da - db) > 1e-6 * da) ++depthMismatch;
+                }
+        }
+    }
+    std::printf("[buffer] polytope draws: %llu covered pixels, %llu rays checked, %llu entering past the depth "
+                "(must be 0); unturned obbs cover %llu pixels, their boxes %llu, %llu depths apart (must be 0)\n",
+                (unsigned long long)pixelsCovered, (unsigned long long)raysChecked, (unsigned long long)bad,
+                (unsigned long long)obbPixels, (unsigned long long)boxPixels, (unsigned long long)depthMismatch);
+    CHECK(bad == 0);
+    CHECK(pixelsCovered > 10000); // the draws did cover pixels
+    CHECK(depthMismatch == 0);
+    // The same pixels, but for a rim the tolerance may take away (a corner ray grazing a face).
+    CHECK(obbPixels <= boxPixels);
+    CHECK(obbPixels * 1000 >= boxPixels * 995);
+}
+
 TEST_CASE("buffer: a clipped draw writes only the pixels of its clip", "[buffer]") {
     // OcclusionBuffer3D::draw with a clip (refineWithBuffer draws the walk's occluders again over the
     // pixels of the one occludee that needs them): the same depths inside the clip, none outside.

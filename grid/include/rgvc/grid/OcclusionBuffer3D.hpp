@@ -265,6 +265,7 @@ private:
     void drawPolytope(const ConvexPolytope& p, double shrink);
     std::vector<Vec3> m_planeN;   // drawPolytope's apex-relative planes (kept: no allocation per draw)
     std::vector<double> m_planeC;
+    std::vector<double> m_polyEnter, m_polyExit; // drawPolytope: per lattice point of a row, the bounds so far
     template <class FillRow, class OnPartial>
     /// nearest: a lower bound of every entry distance fillRow writes (rows that cannot be lowered are skipped).
     /// note: the occluder's note (m_depthNote; 0: none), written where it sets the depth.
