@@ -690,7 +690,7 @@ TEST_CASE("buffer: a refined image inherits the coarse image's depths and what i
     REQUIRE(coarse.begin(view, 32));
     coarse.draw(Box<3>{{40, 20, 20}, {60, 40, 21}}, 0);
     coarse.draw(Ball<3>{{35, 30, 30}, 4}, 0);
-    for (const int factor : {1, 2, 3}) {
+    for (const int factor : {1, 2, 3, 4, 5}) { // (1-4 spread with the factor a constant, 5 the general path)
         REQUIRE(fine.beginRefined(coarse, factor));
         CHECK(fine.rows() == coarse.rows() * factor);
         CHECK(fine.cols() == coarse.cols() * factor);
