@@ -149,9 +149,14 @@ TEST_CASE("storage: brick-row words of O, V and U agree with the voxels, and the
             case 3: { // V by words (the walks) and by voxels (the per-voxel traversal)
                 const std::size_t w = s.rowWord(row, x0);
                 const std::uint32_t bits = std::uint32_t(rng() & 0xFF), n = std::uint32_t(std::min(8, resX - (x0 & ~7)));
-                s.setVisitedBits(w, bits & ((1u << n) - 1u), stamp);
-                for (std::uint32_t b = 0; b < n; ++b)
-                    if ((bits >> b) & 1u) visitedAt[k0 + std::uint32_t(x0 & ~7) + b] = stamp;
+                if (n == 8 && (bits & 1u) != 0) { // a whole word (the brick walk's rows wholly in view)
+                    s.setVisitedWord(w, stamp);
+                    for (std::uint32_t b = 0; b < n; ++b) visitedAt[k0 + std::uint32_t(x0 & ~7) + b] = stamp;
+                } else {
+                    s.setVisitedBits(w, bits & ((1u << n) - 1u), stamp);
+                    for (std::uint32_t b = 0; b < n; ++b)
+                        if ((bits >> b) & 1u) visitedAt[k0 + std::uint32_t(x0 & ~7) + b] = stamp;
+                }
                 s.setVisited(k0 + std::uint32_t(x1), stamp), visitedAt[k0 + std::uint32_t(x1)] = stamp;
                 break;
             }

@@ -47,6 +47,7 @@ public:
     bool visited(VoxelKey k, std::uint32_t stamp) const { return m_visited.voxel(m_scene->rowLayout(), k, stamp); }
     void setVisited(VoxelKey k, std::uint32_t stamp) { m_visited.setVoxel(m_scene->rowLayout(), k, stamp); }
     void setVisitedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_visited.set(w, bits, stamp); }
+    void setVisitedWord(std::size_t w, std::uint32_t stamp) { m_visited.setAll(w, stamp); }
     void resetStamps() {
         for (Stamps& s : m_stamps) s = Stamps{};
         m_visited.reset();

@@ -63,6 +63,7 @@ concept VoxelStorage = requires(S s, const S cs, VoxelKey k, ObjectSlot o, std::
     { cs.rowWord(std::uint32_t{}, std::int32_t{}) } -> std::convertible_to<std::size_t>;
     { cs.opaqueBits(std::size_t{}) } -> std::convertible_to<std::uint32_t>;
     s.setVisitedBits(std::size_t{}, std::uint32_t{}, stamp);
+    s.setVisitedWord(std::size_t{}, stamp);
     { cs.usedBits(std::size_t{}, stamp) } -> std::convertible_to<std::uint32_t>;
     s.setUsedBits(std::size_t{}, std::uint32_t{}, stamp);
     { cs.hasIds(k) } -> std::convertible_to<bool>;
@@ -186,6 +187,8 @@ public:
         x.bits = std::uint8_t((x.stamp == stamp ? x.bits : 0u) | bits);
         x.stamp = std::uint16_t(stamp);
     }
+    /// Sets all 8 bits of word w for frame stamp: one store, no read (a brick row wholly visited).
+    void setAll(std::size_t w, std::uint32_t stamp) { m_words[w] = Word{std::uint16_t(stamp), 0xFF}; }
     void reset() { m_words.clear(); }
     void adviseHugePages() { m_words.adviseHugePages(); }
     void touch() { m_words.touch(); }
@@ -306,6 +309,8 @@ public:
     void setVisited(VoxelKey k, std::uint32_t stamp) { m_visited.setVoxel(m_layout, k, stamp); }
     /// Marks word w's voxels of `bits` visited in frame stamp (the others keep their marks).
     void setVisitedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_visited.set(w, bits, stamp); }
+    /// Marks all 8 voxels of word w visited in frame stamp (setVisitedBits with every bit, in one store).
+    void setVisitedWord(std::size_t w, std::uint32_t stamp) { m_visited.setAll(w, stamp); }
 
     bool hasIds(VoxelKey k) const { return (head(k) & ~kOpaqueBit) != kNoList; }
     template <class Fn> void forEachId(VoxelKey k, Fn&& fn) const {

@@ -308,7 +308,11 @@ private:
                 }
         }
         const bool anyIds = onBrickIds(brick, true);
-        for (int i = 0; i < rows; ++i) storage.setVisitedBits(words[i], full, stamp);
+        // (A brick's rows are whole words but at the grid's last brick along x: one store each, no read.)
+        if (full == 0xFFu)
+            for (int i = 0; i < rows; ++i) storage.setVisitedWord(words[i], stamp);
+        else
+            for (int i = 0; i < rows; ++i) storage.setVisitedBits(words[i], full, stamp);
         st.voxelsVisited += std::uint64_t(rows) * std::uint64_t(hi.x - lo.x);
         if (tbvHere) {
             std::uint64_t slice = 0; // `full` on each of the brick's rows along y
