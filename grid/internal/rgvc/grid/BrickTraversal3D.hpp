@@ -210,6 +210,12 @@ private:
         // pass 2 is skipped (its second loop over the rows was a fifth of the walk's per-brick work).
         const bool onePass = kLists && !hasFar;
         std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0}; // the visited voxels, as slice words
+        if constexpr (kLists)
+            if (onePass) {
+                visitClippedBrick(grid, storage, frustum, image, brick, lo, hi, stamp, tbvHere, clipU0, clipU1, onTbvs,
+                                  insideObject, onBrickIds, st);
+                return;
+            }
         int rows = 0;
         for (std::int32_t z = lo.z; z < hi.z; ++z)
             for (std::int32_t y = lo.y; y < hi.y; ++y) {
@@ -273,6 +279,54 @@ private:
             }
             visible[r.z - lo.z] |= std::uint64_t(inView) << (8 * (r.y - lo.y));
         }
+        if (tbvHere) onTbvs(brick, visible);
+        clearIfEmpty(storage, brick, anyIds, tbvHere, st);
+    }
+
+    /// visitBrick's one pass for a brick the cone's side planes cut, with the caller's object lists and no
+    /// far limit to test (pass 2 is then empty): the same marks, counts, fused boxes and calls in the same
+    /// order as the general row loop, which computed each row's word, span, mask and opaque bits in turn
+    /// and kept a RowInfo per row for a pass 2 that never came. Here the rows' words come by their
+    /// strides (as in visitWholeBrick) and their spans' masks, counts and visible slices in one loop.
+    /// clipU0, clipU1: the rows' spans (8 (z - lo.z) + y - lo.y), from VoxelRowClipper::clipBrick.
+    template <class OnTbvs, class InsideObject, class OnBrickIds>
+    void visitClippedBrick(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D* image,
+                           const IVec3& brick, const IVec3& lo, const IVec3& hi, std::uint32_t stamp, bool tbvHere,
+                           const std::int32_t* clipU0, const std::int32_t* clipU1, OnTbvs& onTbvs, InsideObject& insideObject,
+                           OnBrickIds& onBrickIds, BrickTraversalStats3D& st) {
+        const std::uint32_t resY = std::uint32_t(grid.resolution().y);
+        std::size_t words[64];
+        std::uint32_t inView[64]; // per row (z major): bit x - lo.x, the span's voxels
+        std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+        const std::uint32_t row0 = std::uint32_t(lo.y) + resY * std::uint32_t(lo.z);
+        const std::size_t first = storage.rowWord(row0, lo.x);
+        const std::size_t yStep = storage.rowWord(row0 + 1, lo.x) - first, zStep = yStep * resY;
+        int rows = 0;
+        std::uint64_t visited = 0;
+        for (std::int32_t z = lo.z; z < hi.z; ++z) {
+            std::size_t word = first + std::size_t(z - lo.z) * zStep;
+            for (std::int32_t y = lo.y; y < hi.y; ++y, word += yStep, ++rows) {
+                const std::size_t c = std::size_t(8 * (z - lo.z) + (y - lo.y));
+                const std::int32_t u0 = clipU0[c], u1 = std::min(clipU1[c], hi.x - 1);
+                const std::uint32_t m = u0 <= u1 ? ((2u << (u1 - u0)) - 1u) << (u0 - lo.x) : 0u;
+                words[rows] = word;
+                inView[rows] = m;
+                visited += std::uint64_t(std::popcount(m));
+                visible[z - lo.z] |= std::uint64_t(m) << (8 * (y - lo.y));
+            }
+        }
+        st.voxelsVisited += visited;
+        for (int i = 0; i < rows; ++i)
+            if (inView[i] != 0) storage.setVisitedBits(words[i], inView[i], stamp);
+        if (image != nullptr) {
+            int i = 0;
+            for (std::int32_t z = lo.z; z < hi.z; ++z)
+                for (std::int32_t y = lo.y; y < hi.y; ++y, ++i) {
+                    const std::uint32_t bits = storage.opaqueBits(words[i]) & inView[i];
+                    if (bits != 0) drawFusedBoxes(grid, storage, frustum, *image, words[i], bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
+                }
+        }
+        const bool anyIds = onBrickIds(brick, false);
         if (tbvHere) onTbvs(brick, visible);
         clearIfEmpty(storage, brick, anyIds, tbvHere, st);
     }
