@@ -510,12 +510,21 @@ void OcclusionBuffer3D::drawPolytope(const ConvexPolytope& p, double shrink) {
         }
         for (std::size_t k = 0; k < np; ++k) {
             const double a0 = glm::dot(normals[k], b), a1 = glm::dot(normals[k], m_right), c = offsets[k];
+            // n.D is linear along the row: its signs at the row's two ends bound it over the points
+            // between (a few ulps apart from the loop's values, which only matters at a sign change,
+            // where the loop runs).
+            const double d0 = a0 + xs[i0] * a1, d1 = a0 + xs[i1] * a1;
             if (c > 0) {
+                if (d0 < 0 && d1 < 0) continue; // no exit through this plane on the row
                 for (int i = i0; i <= i1; ++i) {
                     const double den = a0 + xs[i] * a1;
                     exit[i] = den > 0 ? std::min(exit[i], c / den) : exit[i];
                 }
             } else {
+                if (d0 > 0 && d1 > 0) { // the whole row misses the half-space's interior past the apex
+                    for (int i = i0; i <= i1; ++i) out[i] = -1.0;
+                    return;
+                }
                 for (int i = i0; i <= i1; ++i) {
                     const double den = a0 + xs[i] * a1;
                     enter[i] = den < 0 ? std::max(enter[i], c / den) : kInf;
