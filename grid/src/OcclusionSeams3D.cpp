@@ -82,6 +82,14 @@ template <class Side> void clip(const Poly& in, Side&& side, Poly& out) {
     }
 }
 
+/// Whether side(p) >= 0 at every vertex of `in`: clip() would then keep `in` as it is (the common case at
+/// a seam pixel: of a box polygon's edges, one or two cut the pixel's square, the others miss it).
+template <class Side> bool keepsAll(const Poly& in, Side&& side) {
+    bool all = true;
+    for (int k = 0; k < in.n; ++k) all = all && side(in.x[k], in.y[k]) >= 0;
+    return all;
+}
+
 /// Every vertex of q inside p's polygon with the margin to spare (so q, convex, lies in it).
 bool inside(const Poly& q, const ImageSeamBox3D& p, double margin) {
     for (int e = 0; e < p.poly.n; ++e)
@@ -102,11 +110,16 @@ bool covered(const Poly& q, const ImageSeamBox3D* const* boxes, int n) {
     // ping-pongs between two buffers (a Poly is 784 bytes; copying it per edge was a third of the test).
     Poly piece, buf[2];
     const Poly* rest = &q;
-    for (int e = 0, w = 0; e < p.poly.n && rest->n >= 3; ++e, w ^= 1) {
+    for (int e = 0, w = 0; e < p.poly.n && rest->n >= 3; ++e) {
+        const auto in = [&](double x, double y) { return edgeSide(p, e, x, y) - margin; };
+        // All of the remainder inside this edge's half-plane: its piece outside is empty (at most points
+        // on the line itself, inside p by the margin), and the remainder stays.
+        if (keepsAll(*rest, in)) continue;
         clip(*rest, [&](double x, double y) { return margin - edgeSide(p, e, x, y); }, piece);
         if (piece.n >= 3 && !covered(piece, boxes + 1, n - 1)) return false;
-        clip(*rest, [&](double x, double y) { return edgeSide(p, e, x, y) - margin; }, buf[w]);
+        clip(*rest, in, buf[w]);
         rest = &buf[w];
+        w ^= 1;
     }
     return true;
 }
@@ -263,9 +276,12 @@ bool OcclusionBuffer3D::fusedDepth(int i, int j, const std::uint32_t* boxes, int
         const SeamBox& b = m_seamBoxes[boxes[k] - 1];
         Poly buf[2]; // ping-pong, as in covered()
         const Poly* part = &q;
-        for (int e = 0, w = 0; e < b.poly.n && part->n > 0; ++e, w ^= 1) {
-            clip(*part, [&](double x, double y) { return edgeSide(b, e, x, y); }, buf[w]);
+        for (int e = 0, w = 0; e < b.poly.n && part->n > 0; ++e) {
+            const auto side = [&](double x, double y) { return edgeSide(b, e, x, y); };
+            if (keepsAll(*part, side)) continue; // (clip would copy it)
+            clip(*part, side, buf[w]);
             part = &buf[w];
+            w ^= 1;
         }
         for (int v = 0; v < part->n; ++v) {
             const Vec3 d = glm::normalize(m_forward + part->x[v] * m_right + part->y[v] * m_up);
