@@ -294,38 +294,25 @@ private:
                            const IVec3& brick, const IVec3& lo, const IVec3& hi, std::uint32_t stamp, bool tbvHere,
                            const std::int32_t* clipU0, const std::int32_t* clipU1, OnTbvs& onTbvs, InsideObject& insideObject,
                            OnBrickIds& onBrickIds, BrickTraversalStats3D& st) {
-        const std::uint32_t resY = std::uint32_t(grid.resolution().y);
         std::size_t words[64];
+        const int rows = rowWords(grid, storage, lo, hi, words);
         std::uint32_t inView[64]; // per row (z major): bit x - lo.x, the span's voxels
         std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-        const std::uint32_t row0 = std::uint32_t(lo.y) + resY * std::uint32_t(lo.z);
-        const std::size_t first = storage.rowWord(row0, lo.x);
-        const std::size_t yStep = storage.rowWord(row0 + 1, lo.x) - first, zStep = yStep * resY;
-        int rows = 0;
         std::uint64_t visited = 0;
-        for (std::int32_t z = lo.z; z < hi.z; ++z) {
-            std::size_t word = first + std::size_t(z - lo.z) * zStep;
-            for (std::int32_t y = lo.y; y < hi.y; ++y, word += yStep, ++rows) {
+        for (std::int32_t z = lo.z, i = 0; z < hi.z; ++z)
+            for (std::int32_t y = lo.y; y < hi.y; ++y, ++i) {
                 const std::size_t c = std::size_t(8 * (z - lo.z) + (y - lo.y));
                 const std::int32_t u0 = clipU0[c], u1 = std::min(clipU1[c], hi.x - 1);
                 const std::uint32_t m = u0 <= u1 ? ((2u << (u1 - u0)) - 1u) << (u0 - lo.x) : 0u;
-                words[rows] = word;
-                inView[rows] = m;
+                inView[i] = m;
                 visited += std::uint64_t(std::popcount(m));
                 visible[z - lo.z] |= std::uint64_t(m) << (8 * (y - lo.y));
             }
-        }
         st.voxelsVisited += visited;
         for (int i = 0; i < rows; ++i)
             if (inView[i] != 0) storage.setVisitedBits(words[i], inView[i], stamp);
-        if (image != nullptr) {
-            int i = 0;
-            for (std::int32_t z = lo.z; z < hi.z; ++z)
-                for (std::int32_t y = lo.y; y < hi.y; ++y, ++i) {
-                    const std::uint32_t bits = storage.opaqueBits(words[i]) & inView[i];
-                    if (bits != 0) drawFusedBoxes(grid, storage, frustum, *image, words[i], bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
-                }
-        }
+        if (image != nullptr)
+            drawOpaqueRows(grid, storage, frustum, *image, lo, hi, words, [&](int i) { return inView[i]; }, stamp, insideObject, st);
         const bool anyIds = onBrickIds(brick, false);
         if (tbvHere) onTbvs(brick, visible);
         clearIfEmpty(storage, brick, anyIds, tbvHere, st);
@@ -340,27 +327,11 @@ private:
     void visitWholeBrick(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D* image,
                          const IVec3& brick, const IVec3& lo, const IVec3& hi, std::uint32_t stamp, bool tbvHere,
                          OnTbvs& onTbvs, InsideObject& insideObject, OnBrickIds& onBrickIds, BrickTraversalStats3D& st) {
-        const std::uint32_t resY = std::uint32_t(grid.resolution().y);
         const std::uint32_t full = (2u << (hi.x - 1 - lo.x)) - 1u; // bits x - lo.x of the row
-        // The rows' words by their strides (a row's word per row, as rowWord computes it, was a tenth of
-        // scenes/open-3d.json's instructions through `rgvc cull`: its arithmetic was redone for each row).
         std::size_t words[64];
-        int rows = 0;
-        const std::uint32_t row0 = std::uint32_t(lo.y) + resY * std::uint32_t(lo.z);
-        const std::size_t first = storage.rowWord(row0, lo.x);
-        const std::size_t yStep = storage.rowWord(row0 + 1, lo.x) - first, zStep = yStep * resY;
-        for (std::int32_t z = lo.z; z < hi.z; ++z) {
-            std::size_t word = first + std::size_t(z - lo.z) * zStep;
-            for (std::int32_t y = lo.y; y < hi.y; ++y, word += yStep) words[rows++] = word;
-        }
-        if (image != nullptr) {
-            int i = 0;
-            for (std::int32_t z = lo.z; z < hi.z; ++z)
-                for (std::int32_t y = lo.y; y < hi.y; ++y, ++i) {
-                    const std::uint32_t bits = storage.opaqueBits(words[i]) & full;
-                    if (bits != 0) drawFusedBoxes(grid, storage, frustum, *image, words[i], bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
-                }
-        }
+        const int rows = rowWords(grid, storage, lo, hi, words);
+        if (image != nullptr)
+            drawOpaqueRows(grid, storage, frustum, *image, lo, hi, words, [&](int) { return full; }, stamp, insideObject, st);
         const bool anyIds = onBrickIds(brick, true);
         // (A brick's rows are whole words but at the grid's last brick along x: one store each, no read.)
         if (full == 0xFFu)
@@ -376,6 +347,37 @@ private:
             onTbvs(brick, visible);
         }
         clearIfEmpty(storage, brick, anyIds, tbvHere, st);
+    }
+
+    /// The brick-row words of the brick's rows lo..hi (hi exclusive), z major, into `words`; returns their
+    /// count. From the first by the y and z strides (taken from rowWord, so every storage lays them out its
+    /// own way): a row's word per row, as rowWord computes it, was a tenth of scenes/open-3d.json's
+    /// instructions through `rgvc cull`.
+    int rowWords(const GridGeometry3& grid, const Storage& storage, const IVec3& lo, const IVec3& hi, std::size_t (&words)[64]) const {
+        const std::uint32_t resY = std::uint32_t(grid.resolution().y);
+        const std::uint32_t row0 = std::uint32_t(lo.y) + resY * std::uint32_t(lo.z);
+        const std::size_t first = storage.rowWord(row0, lo.x);
+        const std::size_t yStep = storage.rowWord(row0 + 1, lo.x) - first, zStep = yStep * resY;
+        int rows = 0;
+        for (std::int32_t z = lo.z; z < hi.z; ++z) {
+            std::size_t word = first + std::size_t(z - lo.z) * zStep;
+            for (std::int32_t y = lo.y; y < hi.y; ++y, word += yStep) words[rows++] = word;
+        }
+        return rows;
+    }
+
+    /// The fused boxes started from the brick's rows (words as rowWords gives them), row after row, from
+    /// each row's opaque voxels among mask(i) (bit x - lo.x of row i).
+    template <class Mask, class InsideObject>
+    void drawOpaqueRows(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D& image,
+                        const IVec3& lo, const IVec3& hi, const std::size_t* words, Mask&& mask, std::uint32_t stamp,
+                        InsideObject& insideObject, BrickTraversalStats3D& st) {
+        int i = 0;
+        for (std::int32_t z = lo.z; z < hi.z; ++z)
+            for (std::int32_t y = lo.y; y < hi.y; ++y, ++i) {
+                const std::uint32_t bits = storage.opaqueBits(words[i]) & mask(i);
+                if (bits != 0) drawFusedBoxes(grid, storage, frustum, image, words[i], bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
+            }
     }
 
     /// The fused boxes started from a row's opaque voxels `bits` (bit x - first.x of brick-row word
