@@ -442,6 +442,107 @@ TEST_CASE("buffer: a polytope's pixel depths bound every ray of the pixel, and a
     CHECK(obbPixels * 1000 >= boxPixels * 995);
 }
 
+TEST_CASE("buffer: boxes and balls around the camera cover exactly the pixels whose corner rays pass through them", "[buffer]") {
+    // OcclusionBuffer3D::draw for shapes reaching behind the camera: their pixels come from the part of
+    // the shape in view (rectOf's clippedRect), no longer from the whole image. Random boxes and balls
+    // around random cameras (most reaching behind the camera or beside it, some wholly behind), each drawn
+    // alone: a pixel all four of whose corner rays clearly pass through the shape's interior must be
+    // covered, at the largest of their entry distances; a pixel with a corner ray that clearly misses must
+    // stay open. Rays within a relative 1e-6 of grazing decide nothing.
+    const std::uint64_t seed = 20261208;
+    std::mt19937_64 rng(seed);
+    std::uint64_t mustCover = 0, mustOpen = 0, wrong = 0, clipped = 0;
+    for (int n = 0; n < 400; ++n) {
+        INFO("seed " << seed << " case " << n);
+        Camera3 cam = lookingAlongZ({50, 30, 50}, sd::uniform(rng, 30, 150), sd::uniform(rng, 0.5, 2.5));
+        cam.direction = sd::unitVector(rng);
+        cam.up = sd::unitVector(rng);
+        const ViewFrustum view(cam, kUnitGrid);
+        const int rows = std::array<int, 3>{16, 32, 64}[std::size_t(n % 3)];
+        const Vec3 o = cam.position; // shapes relative to the apex below
+        const Vec3 centre = o + sd::unitVector(rng) * sd::uniform(rng, 0, 12);
+        const bool ball = n % 4 == 3;
+        const Vec3 half{sd::uniform(rng, 0.3, 10), sd::uniform(rng, 0.3, 10), sd::uniform(rng, 0.3, 10)};
+        const double radius = sd::uniform(rng, 0.3, 10);
+        const Shape<3> shape = ball ? Shape<3>(Ball<3>{centre, radius}) : Shape<3>(Box<3>{centre - half, centre + half});
+        // The camera inside, or within a hair of, the shape is not drawn at all: not this test's case.
+        const Box<3> bounds = boundsOf<3>(shape);
+        const double gap = ball ? glm::length(centre - o) - radius : glm::length(glm::clamp(o, bounds.min, bounds.max) - o);
+        if (!(gap > 0.05)) continue;
+        clipped += glm::dot(bounds.min - o, view.forward()) < 0 || glm::dot(bounds.max - o, view.forward()) < 0 ||
+                   ball && glm::dot(centre - o, view.forward()) < radius * 1.001;
+        OcclusionBuffer3D buffer;
+        REQUIRE(buffer.begin(view, rows));
+        buffer.draw(shape, 0);
+        const double halfW = view.tanHalfWidth() * (1 + 1e-6), halfH = view.tanHalfHeight() * (1 + 1e-6);
+        const double pw = 2 * halfW / buffer.cols(), ph = 2 * halfH / buffer.rows();
+        // Along the unit ray t d: +1 with its entry when it clearly passes through the interior, -1 when it
+        // clearly misses, 0 near grazing.
+        auto through = [&](const Vec3& d, double& entry) {
+            if (ball) {
+                const Vec3 c = centre - o;
+                const double cd = glm::dot(c, d), q = radius * radius - (glm::dot(c, c) - cd * cd);
+                const double tol = 1e-6 * (glm::length(c) + radius);
+                if (cd <= 0 || q <= 0) return cd < -tol || q < -tol * radius ? -1 : 0;
+                entry = cd - std::sqrt(q);
+                return std::sqrt(q) > tol ? 1 : 0;
+            }
+            double e = -1e300, f = 1e300;
+            for (int a = 0; a < 3; ++a) {
+                const double lo = bounds.min[a] - o[a], hi = bounds.max[a] - o[a];
+                if (d[a] == 0) {
+                    if (!(lo < 0 && hi > 0)) return -1;
+                    continue;
+                }
+                const double t1 = lo / d[a], t2 = hi / d[a];
+                e = std::max(e, std::min(t1, t2));
+                f = std::min(f, std::max(t1, t2));
+            }
+            const double tol = 1e-6 * (std::abs(f) + 1);
+            entry = e;
+            if (e > tol && f - e > tol) return 1;
+            return f < -tol || f - e < -tol ? -1 : 0;
+        };
+        for (int j = 0; j < buffer.rows(); ++j)
+            for (int i = 0; i < buffer.cols(); ++i) {
+                int in = 0, out = 0;
+                double farthest = 0;
+                for (int k = 0; k < 4; ++k) {
+                    const double x = -halfW + (i + (k & 1)) * pw, y = -halfH + (j + (k >> 1)) * ph;
+                    const Vec3 d = glm::normalize(view.forward() + x * view.right() + y * view.trueUp());
+                    double entry = 0;
+                    const int r = through(d, entry);
+                    in += r > 0;
+                    out += r < 0;
+                    if (r > 0) farthest = std::max(farthest, entry);
+                }
+                const double depth = buffer.depthAt(i, j);
+                if (in == 4) {
+                    ++mustCover;
+                    if (!(std::abs(depth - farthest) <= 1e-6 * farthest)) {
+                        ++wrong;
+                        UNSCOPED_INFO("pixel (" << i << ", " << j << ") depth " << depth << ", its corner rays enter by " << farthest);
+                        CHECK(false);
+                    }
+                } else if (out > 0) {
+                    ++mustOpen;
+                    if (!std::isinf(depth)) {
+                        ++wrong;
+                        UNSCOPED_INFO("pixel (" << i << ", " << j << ") depth " << depth << " with a corner ray missing the shape");
+                        CHECK(false);
+                    }
+                }
+            }
+    }
+    std::printf("[buffer] shapes around the camera: %llu pixels to cover, %llu to leave open, %llu wrong (must be 0); "
+                "%llu shapes reached behind the camera\n",
+                (unsigned long long)mustCover, (unsigned long long)mustOpen, (unsigned long long)wrong, (unsigned long long)clipped);
+    CHECK(wrong == 0);
+    CHECK(mustCover > 20000);
+    CHECK(mustOpen > 20000);
+    CHECK(clipped > 100);
+}
+
 TEST_CASE("buffer: a clipped draw writes only the pixels of its clip", "[buffer]") {
     // OcclusionBuffer3D::draw with a clip (refineWithBuffer draws the walk's occluders again over the
     // pixels of the one occludee that needs them): the same depths inside the clip, none outside.

@@ -165,7 +165,12 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& c, double rad
     // extremes are the tangents X = m Z from the origin: (cx - m cz)^2 = rho^2 (1 + m^2), so
     // m = (cx cz +- rho sqrt(cx^2 + cz^2 - rho^2)) / (cz^2 - rho^2), when the disc lies in Z > 0.
     const double cx = glm::dot(c, m_right), cy = glm::dot(c, m_up), cz = glm::dot(c, m_forward);
-    if (!(cz > radius * 1.001)) return wholeImage();
+    if (!(cz > radius * 1.001)) { // reaching behind the camera (or nearly into its plane): its bounding box's part in view
+        const Vec3 lo = c - radius, hi = c + radius;
+        double xc[8], yc[8], zc[8];
+        boxCorners(lo, hi, xc, yc, zc);
+        return clippedRect(lo, hi, xc, yc, zc);
+    }
     const double den = cz * cz - radius * radius, invDen = 1 / den;
     auto range = [&](double cw, double& lo, double& hi) {
         const double root = radius * std::sqrt(cw * cw + cz * cz - radius * radius);
@@ -190,12 +195,13 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec
     double xc[8], yc[8], zc[8];
     boxCorners(lo, hi, xc, yc, zc);
     // A corner nearly in the camera's plane (z at most 1e-6 of its distance) makes the image unbounded
-    // for practical purposes: the whole image. (|q|^2 from the corner's coordinates directly.)
+    // for practical purposes: the box's part in view instead (clippedRect). (|q|^2 from the corner's
+    // coordinates directly.)
     const double sx[2] = {lo.x * lo.x, hi.x * hi.x}, sy[2] = {lo.y * lo.y, hi.y * hi.y}, sz[2] = {lo.z * lo.z, hi.z * hi.z};
 #pragma GCC unroll 8
     for (int k = 0; k < 8; ++k) {
         const double z = zc[k];
-        if (!(z > 0) || !(z * z > 1e-12 * (sx[k & 1] + sy[(k >> 1) & 1] + sz[k >> 2]))) return wholeImage();
+        if (!(z > 0) || !(z * z > 1e-12 * (sx[k & 1] + sy[(k >> 1) & 1] + sz[k >> 2]))) return clippedRect(lo, hi, xc, yc, zc);
         const double inv = 1.0 / z;
         const double x = xc[k] * inv, y = yc[k] * inv;
         x0 = std::min(x0, x);

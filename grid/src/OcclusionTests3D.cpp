@@ -107,6 +107,57 @@ const Silhouettes& silhouettes() {
     return canHide(p, pixel);
 }
 
+int OcclusionBuffer3D::clippedVertices(const double (&xc)[8], const double (&yc)[8], const double (&zc)[8], double zMin,
+                                       double* px, double* py) {
+    int n = 0;
+    auto add = [&](double x, double y, double z) {
+        const double inv = 1.0 / z; // one division (callers pad the bounds by 1e-7 relative)
+        px[n] = x * inv;
+        py[n] = y * inv;
+        ++n;
+    };
+    for (int k = 0; k < 8; ++k) {
+        if (zc[k] >= zMin) add(xc[k], yc[k], zc[k]);
+        for (int a = 0; a < 3; ++a) { // the edge from corner k to the corner differing in bit a
+            const int m = k ^ (1 << a);
+            if (m < k || (zc[k] >= zMin) == (zc[m] >= zMin)) continue;
+            // Camera coordinates are linear in the point, so the crossing's are the same blend of the
+            // corners' (its z is zMin by construction).
+            const double t = (zMin - zc[k]) / (zc[m] - zc[k]);
+            add(xc[k] + (xc[m] - xc[k]) * t, yc[k] + (yc[m] - yc[k]) * t, zMin);
+        }
+    }
+    return n;
+}
+
+OcclusionBuffer3D::PixelRect OcclusionBuffer3D::clippedRect(const Vec3& lo, const Vec3& hi, const double (&xc)[8],
+                                                           const double (&yc)[8], const double (&zc)[8]) const {
+    // Why this rectangle holds every pixel a draw can write. A draw writes a pixel (or hands it to the
+    // seams) only where some corner ray of it passes through the box's interior, at a point q of the
+    // box; the ray is a direction of the view (the lattice's corners lie in the closed image), so
+    // z_q >= |q| / sqrt(1 + halfW^2 + halfH^2) >= nearest / sqrt(...) >= zMinOf(nearest): q lies in the
+    // box clipped to z >= zMin, a convex polytope whose image is the hull of its vertices' images
+    // (footprintOf's construction, which the occludee tests rely on the same way). A wall, floor or
+    // building beside the camera, reaching behind it, took the whole image and filled every pixel's
+    // corners (the closed rooms' three walls a frame, the street's buildings and ground): now only its
+    // side of the image.
+    const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), lo, hi)));
+    if (!(nearest > 0)) return wholeImage(); // the camera in the closed box (or NaN)
+    double px[20], py[20];
+    const int n = clippedVertices(xc, yc, zc, zMinOf(nearest), px, py);
+    if (n == 0) return {1, 0, 1, 0}; // no point of the box in view
+    double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf;
+    for (int k = 0; k < n; ++k) {
+        x0 = std::min(x0, px[k]);
+        x1 = std::max(x1, px[k]);
+        y0 = std::min(y0, py[k]);
+        y1 = std::max(y1, py[k]);
+    }
+    if (!(x0 <= x1) || !(y0 <= y1) || !std::isfinite(x0 + x1 + y0 + y1)) return wholeImage();
+    const double padX = 1e-7 * (std::abs(x0) + std::abs(x1) + 1.0), padY = 1e-7 * (std::abs(y0) + std::abs(y1) + 1.0);
+    return pixelsOf(x0 - padX, x1 + padX, y0 - padY, y1 + padY);
+}
+
 bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin, Footprint& f, bool forSeams,
                                      double coveredBelow, bool cornerWitnesses) const {
     // The box's points in the view at distance >= nearest have z >= zMin (zMinOf), so the image of the box
@@ -155,12 +206,6 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
     }
     double px[20], py[20];
     int n = 0;
-    auto add = [&](double x, double y, double z) {
-        const double inv = 1.0 / z; // one division (the bounds are padded by 1e-7 relative below)
-        px[n] = x * inv;
-        py[n] = y * inv;
-        ++n;
-    };
     if (allFront) { // (most tests: straight-line code over the eight corners, no edge crosses the plane)
 #pragma GCC unroll 8
         for (int k = 0; k < 8; ++k) {
@@ -169,16 +214,8 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
             py[k] = yc[k] * inv;
         }
         n = 8;
-    } else for (int k = 0; k < 8; ++k) {
-        if (zc[k] >= zMin) add(xc[k], yc[k], zc[k]);
-        for (int a = 0; a < 3; ++a) { // the edge from corner k to the corner differing in bit a
-            const int m = k ^ (1 << a);
-            if (m < k || (zc[k] >= zMin) == (zc[m] >= zMin)) continue;
-            // Camera coordinates are linear in the point, so the crossing's are the same blend of the
-            // corners' (its z is zMin by construction).
-            const double t = (zMin - zc[k]) / (zc[m] - zc[k]);
-            add(xc[k] + (xc[m] - xc[k]) * t, yc[k] + (yc[m] - yc[k]) * t, zMin);
-        }
+    } else {
+        n = clippedVertices(xc, yc, zc, zMin, px, py);
     }
     double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf;
     for (int k = 0; k < n; ++k) {

@@ -192,11 +192,23 @@ private:
     PixelRect wholeImage() const { return {0, m_cols - 1, 0, m_rows - 1}; }
     /// Pixels whose cones can hold a direction with image coordinates in [x0, x1] x [y0, y1].
     PixelRect pixelsOf(double x0, double x1, double y0, double y1) const;
-    /// Outer rectangle of the image of a sphere / box (relative to the apex).
+    /// Outer rectangle of the image of a sphere / box (relative to the apex). A shape reaching behind the
+    /// camera (or nearly into its plane) takes the rectangle of its part in view: the box (a sphere's
+    /// bounding box) clipped to z >= zMinOf(its nearest distance) (clippedRect); the whole image when the
+    /// camera is inside it.
     PixelRect rectOf(const Vec3& c, double radius) const;
     /// smallImage (optional): set when the box lies in front of the camera and its image (the hull of its
     /// corners' images) spans less than kMinSeamPixels pixels, so addSeamBox would keep nothing of it.
     PixelRect rectOf(const Vec3& lo, const Vec3& hi, bool* smallImage = nullptr) const;
+    /// The images of the vertices of the box lo..hi clipped to the half-space z >= zMin (its corners with
+    /// z >= zMin, and the points where its edges cross z = zMin), from its corners' camera coordinates
+    /// (boxCorners) into px, py (20 each); returns their count, 0 when no point of the box has z >= zMin.
+    static int clippedVertices(const double (&xc)[8], const double (&yc)[8], const double (&zc)[8], double zMin,
+                               double* px, double* py);
+    /// The pixels of the box lo..hi clipped to z >= zMinOf(its nearest distance): every pixel whose cone
+    /// holds a direction to a point of the box in view (footprintOf's rectangle, without its polygon). The
+    /// whole image when the camera is in the closed box; empty (i0 > i1) when no point of it is in view.
+    PixelRect clippedRect(const Vec3& lo, const Vec3& hi, const double (&xc)[8], const double (&yc)[8], const double (&zc)[8]) const;
     /// Boxes whose image spans fewer pixels are not kept for seam fusion (addSeamBox).
     static constexpr double kMinSeamPixels = 4;
     using Footprint = ImageFootprint3D;
