@@ -444,14 +444,15 @@ TEST_CASE("buffer: a polytope's pixel depths bound every ray of the pixel, and a
 
 TEST_CASE("buffer: boxes and balls around the camera cover exactly the pixels whose corner rays pass through them", "[buffer]") {
     // OcclusionBuffer3D::draw for shapes reaching behind the camera: their pixels come from the part of
-    // the shape in view (rectOf's clippedRect), no longer from the whole image. Random boxes and balls
-    // around random cameras (most reaching behind the camera or beside it, some wholly behind), each drawn
-    // alone: a pixel all four of whose corner rays clearly pass through the shape's interior must be
+    // the shape in view (rectOf's clippedRect), no longer from the whole image; and for small shapes, whose
+    // draw stops when their image holds no whole pixel (holdsPixel). Random boxes and balls around random
+    // cameras (most reaching behind the camera or beside it, some wholly behind), and small ones farther
+    // out, each drawn alone: a pixel all four of whose corner rays clearly pass through the shape's interior must be
     // covered, at the largest of their entry distances; a pixel with a corner ray that clearly misses must
     // stay open. Rays within a relative 1e-6 of grazing decide nothing.
     const std::uint64_t seed = 20261208;
     std::mt19937_64 rng(seed);
-    std::uint64_t mustCover = 0, mustOpen = 0, wrong = 0, clipped = 0;
+    std::uint64_t mustCover = 0, mustOpen = 0, wrong = 0, clipped = 0, smallCovering = 0;
     for (int n = 0; n < 400; ++n) {
         INFO("seed " << seed << " case " << n);
         Camera3 cam = lookingAlongZ({50, 30, 50}, sd::uniform(rng, 30, 150), sd::uniform(rng, 0.5, 2.5));
@@ -460,10 +461,15 @@ TEST_CASE("buffer: boxes and balls around the camera cover exactly the pixels wh
         const ViewFrustum view(cam, kUnitGrid);
         const int rows = std::array<int, 3>{16, 32, 64}[std::size_t(n % 3)];
         const Vec3 o = cam.position; // shapes relative to the apex below
-        const Vec3 centre = o + sd::unitVector(rng) * sd::uniform(rng, 0, 12);
+        // One case in three: a small shape farther out, one to three pixels across, where the draw's
+        // early exit for an image holding no whole pixel (OcclusionBuffer3D::holdsPixel) decides.
+        const bool small = n % 3 == 2;
+        const Vec3 centre = small ? o + glm::normalize(view.forward() + sd::unitVector(rng) * 0.4) * sd::uniform(rng, 20, 80)
+                                  : o + sd::unitVector(rng) * sd::uniform(rng, 0, 12);
         const bool ball = n % 4 == 3;
-        const Vec3 half{sd::uniform(rng, 0.3, 10), sd::uniform(rng, 0.3, 10), sd::uniform(rng, 0.3, 10)};
-        const double radius = sd::uniform(rng, 0.3, 10);
+        const double size = small ? 0.25 : 1.0, least = small ? 0.05 : 0.3;
+        const Vec3 half{sd::uniform(rng, least, 10 * size), sd::uniform(rng, least, 10 * size), sd::uniform(rng, least, 10 * size)};
+        const double radius = sd::uniform(rng, least, 10 * size);
         const Shape<3> shape = ball ? Shape<3>(Ball<3>{centre, radius}) : Shape<3>(Box<3>{centre - half, centre + half});
         // The camera inside, or within a hair of, the shape is not drawn at all: not this test's case.
         const Box<3> bounds = boundsOf<3>(shape);
@@ -519,6 +525,7 @@ TEST_CASE("buffer: boxes and balls around the camera cover exactly the pixels wh
                 const double depth = buffer.depthAt(i, j);
                 if (in == 4) {
                     ++mustCover;
+                    smallCovering += small;
                     if (!(std::abs(depth - farthest) <= 1e-6 * farthest)) {
                         ++wrong;
                         UNSCOPED_INFO("pixel (" << i << ", " << j << ") depth " << depth << ", its corner rays enter by " << farthest);
@@ -534,13 +541,15 @@ TEST_CASE("buffer: boxes and balls around the camera cover exactly the pixels wh
                 }
             }
     }
-    std::printf("[buffer] shapes around the camera: %llu pixels to cover, %llu to leave open, %llu wrong (must be 0); "
-                "%llu shapes reached behind the camera\n",
-                (unsigned long long)mustCover, (unsigned long long)mustOpen, (unsigned long long)wrong, (unsigned long long)clipped);
+    std::printf("[buffer] shapes around the camera: %llu pixels to cover (%llu of small far shapes), %llu to leave open, "
+                "%llu wrong (must be 0); %llu shapes reached behind the camera\n",
+                (unsigned long long)mustCover, (unsigned long long)smallCovering, (unsigned long long)mustOpen,
+                (unsigned long long)wrong, (unsigned long long)clipped);
     CHECK(wrong == 0);
     CHECK(mustCover > 20000);
     CHECK(mustOpen > 20000);
     CHECK(clipped > 100);
+    CHECK(smallCovering > 50); // small shapes that do cover a pixel or two were drawn
 }
 
 TEST_CASE("buffer: a clipped draw writes only the pixels of its clip", "[buffer]") {

@@ -159,7 +159,20 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::pixelsOf(double x0, double x1, d
     return r;
 }
 
-OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& c, double radius) const {
+bool OcclusionBuffer3D::holdsPixel(double x0, double x1, double y0, double y1) const {
+    // The lattice lines x_i = -halfW + i pixelW (i in 0..cols) in [x0, x1], with pixelsOf's index margin
+    // of 1e-6 outward (far above the rounding of the index, ~1e-15): a pixel whose four corners lie in the
+    // rectangle has two consecutive lines in it on each axis.
+    auto lines = [](double a, double b, double half, double inv, int count) {
+        const double fa = (a + half) * inv - 1e-6, fb = (b + half) * inv + 1e-6;
+        if (!(fa <= fb)) return !(fa > fb); // NaN: true (unknown); an empty range: false
+        return std::min(std::floor(fb), double(count)) - std::max(std::ceil(fa), 0.0) >= 1;
+    };
+    return lines(x0, x1, m_halfW, m_invPixelW, m_cols) && lines(y0, y1, m_halfH, m_invPixelH, m_rows);
+}
+
+OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& c, double radius, bool* noPixel) const {
+    if (noPixel != nullptr) *noPixel = false;
     // In camera coordinates (X, Y, Z) = (c.right, c.up, c.forward) the image coordinate x = X / Z over
     // the sphere takes the values over the disc of centre (cx, cz) and radius rho in the XZ plane; its
     // extremes are the tangents X = m Z from the origin: (cx - m cz)^2 = rho^2 (1 + m^2), so
@@ -183,12 +196,14 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& c, double rad
     double x0, x1, y0, y1;
     range(cx, x0, x1);
     range(cy, y0, y1);
+    if (noPixel != nullptr) *noPixel = !holdsPixel(x0, x1, y0, y1);
     return pixelsOf(x0, x1, y0, y1);
 }
 
-OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec3& hi, bool* smallImage) const {
+OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec3& hi, bool* smallImage, bool* noPixel) const {
     // A box entirely in front of the camera: its image is the convex hull of its corners' images.
     if (smallImage != nullptr) *smallImage = false;
+    if (noPixel != nullptr) *noPixel = false;
     double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf;
     // One reciprocal per corner instead of two quotients: the result is padded by 1e-8 relative below, far
     // above the few ulps either form is off by.
@@ -216,6 +231,7 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec
     // area proves it smaller without computing it: the same boxes are kept, and a cloud of small boxes
     // no longer pays a footprint per draw (a tenth of the clusters' refinement pass in callgrind).
     if (smallImage != nullptr) *smallImage = (x1 - x0 + 2 * padX) * (y1 - y0 + 2 * padY) < kMinSeamPixels * m_pixelW * m_pixelH;
+    if (noPixel != nullptr) *noPixel = !holdsPixel(x0 - padX, x1 + padX, y0 - padY, y1 + padY);
     return pixelsOf(x0 - padX, x1 + padX, y0 - padY, y1 + padY);
 }
 
@@ -353,8 +369,14 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
         const double cx = glm::dot(c, m_right), cy = glm::dot(c, m_up), cz = glm::dot(c, m_forward);
         const double rho2l2 = rho * rho - l2, scale = 1 + kRelMargin, pad = kRelMargin * len;
         const double* xs = m_cornerX.data();
+        // A sphere whose image cannot hold a whole pixel writes nothing (spheres have no partial pixels:
+        // no seams): most of a cloud of small spheres at a distance (the clusters' and the large world's
+        // refinement pass drew 640 and 270 such spheres and small boxes a frame, for nothing).
+        bool noPixel = false;
+        const PixelRect rect = rectOf(c, rho, &noPixel);
+        if (noPixel) return;
         // Every entry written is at least the sphere's nearest distance |c| - rho (drawRect's row skip).
-        drawRect(rectOf(c, rho), (len - rho) * (1 - 1e-6), [&](int j, int i0, int i1, double* out) {
+        drawRect(rect, (len - rho) * (1 - 1e-6), [&](int j, int i0, int i1, double* out) {
             const double yTerm = cz + m_cornerY[std::size_t(j)] * cy;
             const double* inv = m_invLen.data() + std::size_t(j) * std::size_t(m_cols + 1);
             for (int i = i0; i <= i1; ++i) {
@@ -402,8 +424,10 @@ void OcclusionBuffer3D::draw(const Shape<3>& shape, double shrink) {
     };
     // The pixels this box covers only in part may be covered by its union with another box drawn this
     // frame (a wall meeting another at a corner, seen at an angle): OcclusionSeams3D.cpp.
-    bool smallImage = false;
-    const PixelRect rect = rectOf(lo, hi, &smallImage);
+    bool smallImage = false, noPixel = false;
+    const PixelRect rect = rectOf(lo, hi, &smallImage, &noPixel);
+    // Too small for the seams (below) and for a whole pixel: the draw would write nothing.
+    if (smallImage && noPixel) return;
     const std::uint32_t seam = smallImage ? 0 : addSeamBox(lo, hi);
     // The box is noted in m_depthNote (shadowed()'s candidates) when its image is large: a box hides
     // another in object space only when its image holds the other's, and the notes cost a store per
@@ -482,7 +506,9 @@ void OcclusionBuffer3D::drawPolytope(const ConvexPolytope& p, double shrink) {
     const double* offsets = m_planeC.data();
     // Every entry written is at least the nearest distance of the bounding box (drawRect's row skip).
     const double nearest = std::sqrt(lengthSquared<3>(glm::clamp(Vec3(0.0), lo, hi))) * (1 - 1e-6);
-    const PixelRect rect = rectOf(lo, hi);
+    bool noPixel = false;
+    const PixelRect rect = rectOf(lo, hi, nullptr, &noPixel);
+    if (noPixel) return; // no whole pixel in its bounding box's image: nothing to write (no seams either)
     // A polytope whose bounding box's image spans kMinShadowPixels or more is kept for shadowed(), with
     // the planes it is drawn with, and noted where it sets the depth (as large boxes are).
     std::uint32_t note = 0;
