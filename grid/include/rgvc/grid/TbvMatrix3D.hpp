@@ -3,6 +3,7 @@
 #pragma once
 
 #include "rgvc/grid/TbvRegion.hpp"
+#include "rgvc/grid/ZeroedArray.hpp"
 
 namespace rgvc {
 
@@ -74,7 +75,7 @@ public:
         if (m_heads.empty()) {
             const std::size_t n = cellCount<3>(m_bricks);
             m_heads.assign(n, kNone);
-            m_bits.assign(n * kSlices, 0);
+            m_bits = ZeroedArray<std::uint64_t>(n * kSlices);
             m_stale.assign(n, 0);
             const std::size_t blocks = cellCount<3>(m_blocks);
             m_blockHeads.assign(blocks, kNone);
@@ -459,7 +460,10 @@ private:
     IVec3 m_res;
     IVec3 m_bricks;                      // bricks per axis (the last ones may reach past the grid)
     std::vector<std::uint32_t> m_heads;  // per brick: the head of its list of slots
-    std::vector<std::uint64_t> m_bits;   // per brick, kSlices words: a superset of its TBVs' voxels (exact unless stale)
+    // per brick, kSlices words: a superset of its TBVs' voxels (exact unless stale). Zero pages until a
+    // brick of a hot block is written (ZeroedArray.hpp): 64 bytes a brick, 4 MiB over a 512 x 128 x 512
+    // grid, were cleared by the first insert (a tenth of the large world's 16 frames in callgrind).
+    ZeroedArray<std::uint64_t> m_bits;
     std::vector<std::uint8_t> m_stale;   // per brick: an erase since its last rebuild
     IVec3 m_blocks;                           // blocks of 2^3 bricks per axis
     std::vector<std::uint32_t> m_blockHeads;  // per block: while cold, the TBVs whose box meets it
