@@ -107,6 +107,19 @@ const Silhouettes& silhouettes() {
     return canHide(p, pixel);
 }
 
+/// The bounds of the n image points (px, py); false when they are empty or not finite (the caller
+/// takes the whole image).
+[[gnu::always_inline]] static inline bool vertexBounds(const double* px, const double* py, int n, double& x0, double& x1, double& y0, double& y1) {
+    x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf;
+    for (int k = 0; k < n; ++k) {
+        x0 = std::min(x0, px[k]);
+        x1 = std::max(x1, px[k]);
+        y0 = std::min(y0, py[k]);
+        y1 = std::max(y1, py[k]);
+    }
+    return x0 <= x1 && y0 <= y1 && std::isfinite(x0 + x1 + y0 + y1);
+}
+
 int OcclusionBuffer3D::clippedVertices(const double (&xc)[8], const double (&yc)[8], const double (&zc)[8], double zMin,
                                        double* px, double* py) {
     int n = 0;
@@ -146,14 +159,8 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::clippedRect(const Vec3& lo, cons
     double px[20], py[20];
     const int n = clippedVertices(xc, yc, zc, zMinOf(nearest), px, py);
     if (n == 0) return {1, 0, 1, 0}; // no point of the box in view
-    double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf;
-    for (int k = 0; k < n; ++k) {
-        x0 = std::min(x0, px[k]);
-        x1 = std::max(x1, px[k]);
-        y0 = std::min(y0, py[k]);
-        y1 = std::max(y1, py[k]);
-    }
-    if (!(x0 <= x1) || !(y0 <= y1) || !std::isfinite(x0 + x1 + y0 + y1)) return wholeImage();
+    double x0, x1, y0, y1;
+    if (!vertexBounds(px, py, n, x0, x1, y0, y1)) return wholeImage();
     const double padX = 1e-7 * (std::abs(x0) + std::abs(x1) + 1.0), padY = 1e-7 * (std::abs(y0) + std::abs(y1) + 1.0);
     return pixelsOf(x0 - padX, x1 + padX, y0 - padY, y1 + padY);
 }
@@ -217,14 +224,8 @@ bool OcclusionBuffer3D::footprintOf(const Vec3& lo, const Vec3& hi, double zMin,
     } else {
         n = clippedVertices(xc, yc, zc, zMin, px, py);
     }
-    double x0 = kInf, x1 = -kInf, y0 = kInf, y1 = -kInf;
-    for (int k = 0; k < n; ++k) {
-        x0 = std::min(x0, px[k]);
-        x1 = std::max(x1, px[k]);
-        y0 = std::min(y0, py[k]);
-        y1 = std::max(y1, py[k]);
-    }
-    if (!(x0 <= x1) || !(y0 <= y1) || !std::isfinite(x0 + x1 + y0 + y1)) {
+    double x0, x1, y0, y1;
+    if (!vertexBounds(px, py, n, x0, x1, y0, y1)) {
         f.rect = wholeImage();
         return true;
     }
