@@ -445,7 +445,7 @@ TEST_CASE("buffer: a polytope's pixel depths bound every ray of the pixel, and a
 TEST_CASE("buffer: boxes and balls around the camera cover exactly the pixels whose corner rays pass through them", "[buffer]") {
     // OcclusionBuffer3D::draw for shapes reaching behind the camera: their pixels come from the part of
     // the shape in view (rectOf's clippedRect), no longer from the whole image; and for small shapes, whose
-    // draw stops when their image holds no whole pixel (holdsPixel). Random boxes and balls around random
+    // draw stops when their image holds no whole pixel (pixelsOf's noPixel). Random boxes and balls around random
     // cameras (most reaching behind the camera or beside it, some wholly behind), and small ones farther
     // out, each drawn alone: a pixel all four of whose corner rays clearly pass through the shape's interior must be
     // covered, at the largest of their entry distances; a pixel with a corner ray that clearly misses must
@@ -462,7 +462,7 @@ TEST_CASE("buffer: boxes and balls around the camera cover exactly the pixels wh
         const int rows = std::array<int, 3>{16, 32, 64}[std::size_t(n % 3)];
         const Vec3 o = cam.position; // shapes relative to the apex below
         // One case in three: a small shape farther out, one to three pixels across, where the draw's
-        // early exit for an image holding no whole pixel (OcclusionBuffer3D::holdsPixel) decides.
+        // early exit for an image holding no whole pixel (OcclusionBuffer3D::pixelsOf's noPixel) decides.
         const bool small = n % 3 == 2;
         const Vec3 centre = small ? o + glm::normalize(view.forward() + sd::unitVector(rng) * 0.4) * sd::uniform(rng, 20, 80)
                                   : o + sd::unitVector(rng) * sd::uniform(rng, 0, 12);

@@ -140,15 +140,24 @@ std::size_t OcclusionBuffer3D::coveredPixels() const {
     return n;
 }
 
-OcclusionBuffer3D::PixelRect OcclusionBuffer3D::pixelsOf(double x0, double x1, double y0, double y1) const {
+OcclusionBuffer3D::PixelRect OcclusionBuffer3D::pixelsOf(double x0, double x1, double y0, double y1, bool* noPixel) const {
     // Pixel i covers [-halfW + i w, -halfW + (i + 1) w]; a small index margin keeps a direction on a
     // pixel boundary in both neighbours despite rounding. (Times the inverse of the pixel's size: within
     // an ulp or two of the quotient, far inside the margin.)
     const double f0 = (x0 + m_halfW) * m_invPixelW - 1e-6, f1 = (x1 + m_halfW) * m_invPixelW + 1e-6;
     const double g0 = (y0 + m_halfH) * m_invPixelH - 1e-6, g1 = (y1 + m_halfH) * m_invPixelH + 1e-6;
+    if (noPixel != nullptr) *noPixel = false;
     // Bounds computed from overflowing coordinates (inf - inf) are NaN: nothing is known, so the whole
     // image (found by fuzz_culler3d).
     if (std::isnan(f0) || std::isnan(f1) || std::isnan(g0) || std::isnan(g1)) return wholeImage();
+    // A pixel whose four corners (lattice points, lines 0..count) lie in the range has two consecutive
+    // lattice lines in [f, f'] on each axis (the same index margin, far above the indices' rounding).
+    if (noPixel != nullptr) {
+        auto lines = [](double fa, double fb, int count) {
+            return std::min(std::floor(fb), double(count)) - std::max(std::ceil(fa), 0.0) >= 1;
+        };
+        *noPixel = !(lines(f0, f1, m_cols) && lines(g0, g1, m_rows));
+    }
     // The first index is floor(f) clamped to [0, count] (count: past the last, an empty range), the last
     // floor(f) clamped to [-1, count - 1] (-1: before the first). Clamped before the conversion, so no
     // coordinate overflows an int; a non-negative value truncates to its floor.
@@ -157,18 +166,6 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::pixelsOf(double x0, double x1, d
     PixelRect r{first(f0, m_cols), last(f1, m_cols), first(g0, m_rows), last(g1, m_rows)};
     if (r.i0 > r.i1 || r.j0 > r.j1) r.i0 = 1, r.i1 = 0;
     return r;
-}
-
-bool OcclusionBuffer3D::holdsPixel(double x0, double x1, double y0, double y1) const {
-    // The lattice lines x_i = -halfW + i pixelW (i in 0..cols) in [x0, x1], with pixelsOf's index margin
-    // of 1e-6 outward (far above the rounding of the index, ~1e-15): a pixel whose four corners lie in the
-    // rectangle has two consecutive lines in it on each axis.
-    auto lines = [](double a, double b, double half, double inv, int count) {
-        const double fa = (a + half) * inv - 1e-6, fb = (b + half) * inv + 1e-6;
-        if (!(fa <= fb)) return !(fa > fb); // NaN: true (unknown); an empty range: false
-        return std::min(std::floor(fb), double(count)) - std::max(std::ceil(fa), 0.0) >= 1;
-    };
-    return lines(x0, x1, m_halfW, m_invPixelW, m_cols) && lines(y0, y1, m_halfH, m_invPixelH, m_rows);
 }
 
 OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& c, double radius, bool* noPixel) const {
@@ -196,8 +193,7 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& c, double rad
     double x0, x1, y0, y1;
     range(cx, x0, x1);
     range(cy, y0, y1);
-    if (noPixel != nullptr) *noPixel = !holdsPixel(x0, x1, y0, y1);
-    return pixelsOf(x0, x1, y0, y1);
+    return pixelsOf(x0, x1, y0, y1, noPixel);
 }
 
 OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec3& hi, bool* smallImage, bool* noPixel) const {
@@ -231,8 +227,7 @@ OcclusionBuffer3D::PixelRect OcclusionBuffer3D::rectOf(const Vec3& lo, const Vec
     // area proves it smaller without computing it: the same boxes are kept, and a cloud of small boxes
     // no longer pays a footprint per draw (a tenth of the clusters' refinement pass in callgrind).
     if (smallImage != nullptr) *smallImage = (x1 - x0 + 2 * padX) * (y1 - y0 + 2 * padY) < kMinSeamPixels * m_pixelW * m_pixelH;
-    if (noPixel != nullptr) *noPixel = !holdsPixel(x0 - padX, x1 + padX, y0 - padY, y1 + padY);
-    return pixelsOf(x0 - padX, x1 + padX, y0 - padY, y1 + padY);
+    return pixelsOf(x0 - padX, x1 + padX, y0 - padY, y1 + padY, noPixel);
 }
 
 template <class FillRow, class OnPartial>

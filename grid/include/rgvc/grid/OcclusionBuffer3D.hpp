@@ -191,21 +191,19 @@ private:
     void startImage();
     PixelRect wholeImage() const { return {0, m_cols - 1, 0, m_rows - 1}; }
     /// Pixels whose cones can hold a direction with image coordinates in [x0, x1] x [y0, y1].
-    PixelRect pixelsOf(double x0, double x1, double y0, double y1) const;
+    /// noPixel (optional): set when no pixel has all four corners (lattice points) in the range, so a
+    /// shape whose image lies in it covers no pixel whole (false when the range is not a number).
+    PixelRect pixelsOf(double x0, double x1, double y0, double y1, bool* noPixel = nullptr) const;
     /// Outer rectangle of the image of a sphere / box (relative to the apex). A shape reaching behind the
     /// camera (or nearly into its plane) takes the rectangle of its part in view: the box (a sphere's
     /// bounding box) clipped to z >= zMinOf(its nearest distance) (clippedRect); the whole image when the
     /// camera is inside it.
-    /// noPixel (optional): set when no pixel has all four corners in the rectangle (holdsPixel), so a draw
-    /// of the shape covers no pixel whole.
+    /// noPixel (optional): as pixelsOf's, for the rectangle (a draw of the shape covers no pixel whole).
     PixelRect rectOf(const Vec3& c, double radius, bool* noPixel = nullptr) const;
     /// smallImage (optional): set when the box lies in front of the camera and its image (the hull of its
     /// corners' images) spans less than kMinSeamPixels pixels, so addSeamBox would keep nothing of it.
     /// noPixel as above.
     PixelRect rectOf(const Vec3& lo, const Vec3& hi, bool* smallImage = nullptr, bool* noPixel = nullptr) const;
-    /// Whether some pixel may have all four corners (lattice points) in the image rectangle [x0, x1] x
-    /// [y0, y1] (image coordinates; true for NaN).
-    bool holdsPixel(double x0, double x1, double y0, double y1) const;
     /// The images of the vertices of the box lo..hi clipped to the half-space z >= zMin (its corners with
     /// z >= zMin, and the points where its edges cross z = zMin), from its corners' camera coordinates
     /// (boxCorners) into px, py (20 each); returns their count, 0 when no point of the box has z >= zMin.
