@@ -67,6 +67,8 @@ bool OcclusionBuffer2D::begin(const ViewWedge& view, int bins) {
     n = std::max(n, int(std::ceil(m_span / kMaxBinWidth)));
     m_bins = n;
     m_binW = m_span / n;
+    m_invBinW = 1 / m_binW;
+    m_binsPerTurn = kTwoPi / m_binW;
     if (m_cacheHalf != m_half || m_cacheBins != n) {
         m_relCos.resize(std::size_t(n) + 1);
         m_relSin.resize(std::size_t(n) + 1);
@@ -103,8 +105,12 @@ template <class F> bool OcclusionBuffer2D::forEachRun(double x0, double x1, F&& 
     // A direction's bin coordinate is defined modulo 2 pi. The extents built here have x0 > -2 pi - pad and
     // x1 < 3 pi + pad (binCoord in [-pi, 2 pi], offsets within (-pi, pi)), so shifts by -1..1 turns reach
     // every representative in [0, span]; -2..2 costs nothing and leaves room.
+    // In bins, by products (the ten quotients (x + k 2 pi) / binW were most of the time of a hidden() in
+    // the 2D walk): each of x * (1 / binW) and k * (2 pi / binW) is within a few ulps of a value of at
+    // most 3 turns, ~1e-12 bins at kMaxBins, far inside kIndexBias.
+    const double a0 = x0 * m_invBinW - kIndexBias, b0 = x1 * m_invBinW + kIndexBias;
     for (int k = -2; k <= 2; ++k) {
-        const double fa = (x0 + k * kTwoPi) / m_binW - kIndexBias, fb = (x1 + k * kTwoPi) / m_binW + kIndexBias;
+        const double fa = a0 + k * m_binsPerTurn, fb = b0 + k * m_binsPerTurn;
         if (!(fb >= 0) || !(fa < double(m_bins))) continue;
         const int i0 = fa <= 0 ? 0 : int(fa);
         const int i1 = fb >= double(m_bins) ? m_bins - 1 : int(fb);
@@ -151,7 +157,7 @@ bool OcclusionBuffer2D::canHide(const Vec2& p) const {
     if (!m_full && (!(x >= 0) || !(x <= m_span))) return true; // not in the buffer's range: no verdict
     // Clamped in double (a NaN to bin 0), then truncated: floor for q >= 0, without std::floor's library
     // call on the baseline ISA.
-    double q = x / m_binW;
+    double q = x * m_invBinW;
     q = q >= 0 ? q : 0.0;
     q = q < double(m_bins - 1) ? q : double(m_bins - 1);
     const int b = int(q);

@@ -190,6 +190,7 @@ private:
 
     Vec2 m_apex{0.0}, m_dir{1.0, 0.0};
     double m_half = 0, m_span = 0, m_binW = 0;
+    double m_invBinW = 0, m_binsPerTurn = 0; // 1 / m_binW and 2 pi / m_binW (forEachRun, canHide)
     int m_bins = 0;
     bool m_full = false, m_active = false;
     std::vector<double> m_depth;       // bins
