@@ -105,9 +105,9 @@ template <class F> bool OcclusionBuffer2D::forEachRun(double x0, double x1, F&& 
     // A direction's bin coordinate is defined modulo 2 pi. The extents built here have x0 > -2 pi - pad and
     // x1 < 3 pi + pad (binCoord in [-pi, 2 pi], offsets within (-pi, pi)), so shifts by -1..1 turns reach
     // every representative in [0, span]; -2..2 costs nothing and leaves room.
-    // In bins, by products (the ten quotients (x + k 2 pi) / binW were most of the time of a hidden() in
-    // the 2D walk): each of x * (1 / binW) and k * (2 pi / binW) is within a few ulps of a value of at
-    // most 3 turns, ~1e-12 bins at kMaxBins, far inside kIndexBias.
+    // In bins, by products (the quotients (x + k 2 pi) / binW were ten divisions per extent, in every
+    // test and draw of the 2D image): each of x * (1 / binW) and k * (2 pi / binW) is within a few ulps of
+    // a value of at most 3 turns, ~1e-12 bins at kMaxBins, far inside kIndexBias.
     const double a0 = x0 * m_invBinW - kIndexBias, b0 = x1 * m_invBinW + kIndexBias;
     for (int k = -2; k <= 2; ++k) {
         const double fa = a0 + k * m_binsPerTurn, fb = b0 + k * m_binsPerTurn;
@@ -122,7 +122,7 @@ template <class F> bool OcclusionBuffer2D::forEachRun(double x0, double x1, F&& 
 bool OcclusionBuffer2D::coveredNearer(double x0, double x1, double nearest) const {
     return forEachRun(x0, x1, [&](int i0, int i1) {
         // Four bins a step, one branch per four: an extent spans tens of bins (0.002 rad each at the
-        // walk's resolution), and a bin-by-bin exit test was a branch per bin, most of this loop's time.
+        // walk's resolution), and perf put most of this loop's samples on a bin-by-bin exit branch.
         const double* d = m_depth.data();
         int i = i0;
         for (; i + 3 <= i1; i += 4)
