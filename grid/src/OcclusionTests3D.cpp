@@ -489,6 +489,16 @@ bool OcclusionBuffer3D::hidden(const Shape<3>& shape, double grow, double distan
     return true;
 }
 
+/// Narrows [i0, i1] of an image row to its first and last pixel not covered nearer than `nearest`; false
+/// when every pixel is. Such a pixel passes an occludee's per-pixel test whatever its bound (each bound
+/// is at least the occludee's nearest distance), so hiddenBall and hiddenBoxExact bound only the rest.
+static inline bool uncoveredSpan(const double* row, double nearest, int& i0, int& i1) {
+    while (i0 <= i1 && row[i0] < nearest) ++i0;
+    if (i0 > i1) return false;
+    while (row[i1] < nearest) --i1; // stops at i0
+    return true;
+}
+
 /// The largest c.d over the rays d of each pixel of a rectangle, row after row (OcclusionBuffer3D::
 /// hiddenBall, hiddenBoxExact), for a vector c in camera coordinates (right, up, forward).
 /// Why it is exact. In image coordinates d ∝ (x, y, 1), and c.d / |c| = cos θ, θ the angle between d and
@@ -627,13 +637,10 @@ bool OcclusionBuffer3D::hiddenBall(const Vec3& c, double rho, double nearest) {
                                        m_halfW, m_halfH, m_pixelW, m_pixelH};
     PixelMaxDot maxCd(lattice, m_maxDot[0], cc, len, r);
     for (int j = r.j0; j <= r.j1; ++j) {
-        // A pixel covered nearer than the sphere's nearest point passes whatever its bound (tLo >= nearest):
-        // the row's maxima are needed only between the first and the last pixel that is not.
+        // The row's maxima only between its first and last pixel not covered nearer (tLo >= nearest).
         const double* depth = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
         int i0 = r.i0, i1 = r.i1;
-        while (i0 <= i1 && depth[i0] < nearest) ++i0;
-        if (i0 > i1) continue;
-        while (depth[i1] < nearest) --i1; // stops at i0
+        if (!uncoveredSpan(depth, nearest, i0, i1)) continue;
         const double* m = maxCd.next(j, i0, i1); // indexed from r.i0
         bool ok = true;
         for (int i = i0; i <= i1; ++i) { // branch-free
@@ -685,13 +692,10 @@ bool OcclusionBuffer3D::hiddenBoxExact(const Vec3& lo, const Vec3& hi, double ne
     for (int j = r.j0; j <= r.j1 && hiddenAll; ++j) {
         int i0, i1;
         if (!rowSpan(f, j, i0, i1)) continue;
-        // A pixel covered nearer than the box's nearest point passes whatever its bound (t >= nearest):
-        // only the span between the first and the last pixel that is not needs the maxima. (On the 3D
-        // cities' node tests that was a fifth of the spans' pixels, and half of the rows had none.)
+        // The maxima only where the span is not covered nearer (t >= nearest). On the 3D cities' node
+        // tests the rest was a fifth of the spans' pixels, and half of the rows had none.
         const double* depth = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
-        while (i0 <= i1 && depth[i0] < nearest) ++i0;
-        if (i0 > i1) continue;
-        while (depth[i1] < nearest) --i1; // stops at i0
+        if (!uncoveredSpan(depth, nearest, i0, i1)) continue;
         const double* m[3] = {nullptr, nullptr, nullptr};
         for (int k = 0; k < n; ++k) m[k] = axes[k]->next(j, i0, i1);
         for (int i = i0; i <= i1; ++i) {
