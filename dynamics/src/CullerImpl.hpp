@@ -299,9 +299,11 @@ template <int D> struct Culler<D>::Impl {
         for (std::size_t off = 0; off < sizeof(Record); off += 64) __builtin_prefetch(p + off, 1);
     }
     /// The lines an occludee test reads: its state, its local shape (a ball's or box's fields at the
-    /// start, the variant's index at the end), its bounds and the occluder's flags.
+    /// start, the variant's index at the end), its bounds and the occluder's flags; and its id, which an
+    /// object kept in the PVS is listed by (addToPvs, the buffer pass's end).
     void prefetchRecordTests(ObjectSlot slot) const {
         const Record& r = records[slot];
+        __builtin_prefetch(&r.id);
         const char* local = reinterpret_cast<const char*>(&r.at.local);
         __builtin_prefetch(local);
         __builtin_prefetch(local + sizeof(Shape<D>) - 1);
@@ -358,13 +360,17 @@ template <int D> struct Culler<D>::Impl {
     // ---- the frame (Culler.cpp) --------------------------------------------------------------------
 
     /// Adds an object to a view's PVS (once per frame; called per id met, so kept inline here). The
-    /// scene's record of it (lastPvsFrame) is written by finishView (main) or after all views (cullViews).
+    /// scene's record of it (lastPvsFrame, the grid's verdict, which the next scene update reads) is
+    /// written here for cull()'s view, while the caller has the record in cache (a pass over the PVS's
+    /// records after the walk took a cache miss per object), and after all views by cullViews.
     template <class S> void addToPvs(ViewScratch<S>& vs, ObjectSlot slot) {
         if (vs.pvsStamp[slot] == vs.stamp) return;
         vs.pvsStamp[slot] = vs.stamp;
+        Record& r = records[slot];
         // An occluder-only object counts as in the PVS for the culler's own bookkeeping (it stays in O and
         // I while in view) but is not reported.
-        if (records[slot].role != ObjectRole::Occluder) vs.result.pvs.push_back(records[slot].id);
+        if (r.role != ObjectRole::Occluder) vs.result.pvs.push_back(r.id);
+        if constexpr (!ViewScratch<S>::kShared) r.lastPvsFrame = frameIndex;
         vs.pvsSlots.push_back(slot);
     }
     /// A hidden object's TBV met in a visible voxel: cull() reveals it now; a cullViews() pass reports it

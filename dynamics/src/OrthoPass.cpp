@@ -180,8 +180,6 @@ void Culler<D>::Impl::orthoOcclusionView(ViewScratch<S>& vs, const OrthoVolume<D
     st.nodesHidden = hiddenNodes;
     st.bricksVisited = bricks;
     st.occlusionSkipped = !active || image.stats().occludersDrawn == 0;
-    if constexpr (!ViewScratch<S>::kShared)
-        for (ObjectSlot slot : vs.pvsSlots) records[slot].lastPvsFrame = frameIndex;
     std::sort(vs.result.pvs.begin(), vs.result.pvs.end());
     st.pvsSize = std::uint32_t(vs.result.pvs.size());
 }

@@ -75,9 +75,7 @@ void Culler<D>::Impl::cullView(ViewScratch<S>& vs, const typename Traits::View& 
     }
     for (std::size_t i = 0; i < parked.size(); ++i) addToPvs(vs, parked[i]);
     vs.view = nullptr;
-    // The grid's verdict, which the next scene update reads (cullViews writes it after all views).
-    if constexpr (!shared)
-        for (ObjectSlot slot : vs.pvsSlots) records[slot].lastPvsFrame = frameIndex;
+    // (The grid's verdict, lastPvsFrame, is written by addToPvs; cullViews writes it after all views.)
 
     if (options.occlusion && Traits::bufferSize(options) > 0 && vs.pvsSlots.size() > 1) {
         // CullerOptions::adaptiveBuffer (cull() only): a pass that hid under a tenth of what it tested
@@ -130,9 +128,7 @@ template <int D> template <class S> void Culler<D>::Impl::orthoView(ViewScratch<
     testEveryObject(vs, [&](const Vec<D>& lo, const Vec<D>& hi) { return volume.touchesBox(lo, hi); },
                     [&](const Record& r) { return volume.touchesShape(r.at.local, grid.conversionSlack(r.at.worldMagnitude)); },
                     st);
-    for (std::size_t i = 0; i < parked.size(); ++i) addToPvs(vs, parked[i]);
-    if constexpr (!ViewScratch<S>::kShared)
-        for (ObjectSlot slot : vs.pvsSlots) records[slot].lastPvsFrame = frameIndex;
+    for (std::size_t i = 0; i < parked.size(); ++i) addToPvs(vs, parked[i]); // (lastPvsFrame: addToPvs)
     std::sort(vs.result.pvs.begin(), vs.result.pvs.end());
     st.pvsSize = std::uint32_t(vs.result.pvs.size());
 }
