@@ -110,9 +110,9 @@ private:
         // A brick wholly in view needs no per-voxel test. The wedge (<= 180 degrees or the full circle) and
         // the far disc are convex, so four corners in view put the whole box in view.
         const Vec2 loF(lo), hiF(hi);
-        const bool whole = (wedge.isFullCircle() || wedge.isConvex()) && wedge.containsPoint(loF) &&
-                           wedge.containsPoint(hiF) && wedge.containsPoint(Vec2{loF.x, hiF.y}) &&
-                           wedge.containsPoint(Vec2{hiF.x, loF.y});
+        const bool convex = wedge.isFullCircle() || wedge.isConvex();
+        const bool whole = convex && wedge.containsPoint(loF) && wedge.containsPoint(hiF) &&
+                           wedge.containsPoint(Vec2{loF.x, hiF.y}) && wedge.containsPoint(Vec2{hiF.x, loF.y});
         // Pass 1: the voxels in view (bit x - lo.x of row y - lo.y), which hold ids, and the fused boxes
         // of the opaque ones, drawn before any id of the brick is classified so that a wall hides what
         // lies behind it in the same brick.
@@ -124,8 +124,21 @@ private:
             const VoxelKey row = grid.linearIndex(IVec2{0, y});
             const std::size_t word = words[y - lo.y] = storage.rowWord(std::uint32_t(y), lo.x);
             std::uint32_t view = whole ? all : 0, hold = 0;
+            if (!whole && convex) {
+                // A convex view (the wedge and the far disc are convex; touchesVoxel is their two box
+                // tests) meets a row of voxels in one run: the voxels meeting a convex set are those whose
+                // x range meets the set's part in the row's band, an interval. So only the voxels before
+                // the run's first and after its last are tested from the row's ends inward (a straddling
+                // brick's voxels in view are not: most of the per-voxel tests, 7 % of the 2D random
+                // scenes' time). Were rounding to open a gap inside the run, its voxels would be visited
+                // as in view: more work, never a voxel left out.
+                std::int32_t a = lo.x, b = hi.x - 1;
+                while (a <= b && !wedge.touchesVoxel(IVec2{a, y})) ++a;
+                while (b > a && !wedge.touchesVoxel(IVec2{b, y})) --b;
+                if (a <= b) view = ((2u << (b - lo.x)) - 1u) & ~((1u << (a - lo.x)) - 1u);
+            }
             for (std::int32_t x = lo.x; x < hi.x; ++x) {
-                if (!whole) view |= std::uint32_t(wedge.touchesVoxel(IVec2{x, y})) << (x - lo.x);
+                if (!whole && !convex) view |= std::uint32_t(wedge.touchesVoxel(IVec2{x, y})) << (x - lo.x);
                 hold |= std::uint32_t(storage.hasIds(VoxelKey(row + std::uint32_t(x)))) << (x - lo.x);
             }
             // O's word (lo.x is a multiple of 8: bit x - lo.x), its voxels in view only.
