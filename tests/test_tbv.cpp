@@ -145,7 +145,25 @@ bool check2D(const TbvMatrix<2>& t, const IVec2& res, const std::vector<TbvRegio
                 CHECK(false);
                 return false;
             }
+            // The filters: mayHoldAt false only where nothing is held, and mayHoldRow (a tile row's
+            // counts in one read) the same answer bit by bit.
+            const bool may = t.mayHoldAt({x, y});
+            const bool rowBit = ((t.mayHoldRow({x >> 3, y >> 3}, y & 7) >> (x & 7)) & 1) != 0;
+            if (may != rowBit || (!got.empty() && !may)) {
+                INFO("voxel (" << x << ", " << y << ") mayHoldAt " << may << ", mayHoldRow's bit " << rowBit << ", held by "
+                               << got.size());
+                CHECK(false);
+                return false;
+            }
         }
+    // Past the grid's edge, in its last tiles: nothing.
+    for (std::int32_t y = 0; y < ((res.y + 7) & ~7); ++y)
+        for (std::int32_t x = (y < res.y ? res.x : 0); x < ((res.x + 7) & ~7); ++x)
+            if (((t.mayHoldRow({x >> 3, y >> 3}, y & 7) >> (x & 7)) & 1) != 0) {
+                INFO("voxel (" << x << ", " << y << ") outside the " << res.x << "x" << res.y << " grid may hold a TBV");
+                CHECK(false);
+                return false;
+            }
     return true;
 }
 
@@ -277,11 +295,14 @@ TEST_CASE("tbv: 2D counts saturate at 255 without losing a region (more than 255
     std::vector<TbvRegion<2>> regions;
     std::vector<ObjectSlot> slots;
     const int k = 400;
-    std::vector<bool> live(std::size_t(k), true);
+    std::vector<bool> live(std::size_t(k), false);
     for (int i = 0; i < k; ++i) {
         regions.push_back(i == 0 ? TbvRegion<2>{{8.5, 8.5}, 3.0} : TbvRegion<2>{{30.3, 29.7}, 10.0 + 1e-4 * i});
         slots.push_back(ObjectSlot(i));
         t.insert(slots.back(), regions.back(), TbvDiscretization::Boundary);
+        live[std::size_t(i)] = true;
+        // Counts of 127, 128 and 129 on the shared voxels (mayHoldRow's bytes with and without bit 7).
+        if (i >= 127 && i <= 129) REQUIRE(check2D(t, res, regions, slots, live, TbvDiscretization::Boundary));
     }
     REQUIRE(check2D(t, res, regions, slots, live, TbvDiscretization::Boundary));
     std::vector<ObjectSlot> onVoxel;

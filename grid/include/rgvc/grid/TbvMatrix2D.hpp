@@ -5,6 +5,8 @@
 #include "rgvc/grid/TbvRegion.hpp"
 #include "rgvc/grid/ZeroedArray.hpp"
 
+#include <cstring>
+
 namespace rgvc {
 
 /// 2D T: a count of TBVs per voxel, and per 8 x 8 tile of voxels a list of the TBVs whose ring crosses it.
@@ -99,6 +101,20 @@ public:
     /// Whether some TBV may hold voxel v: one count read (false is a guarantee; true may be a saturated
     /// count, which collectAt settles).
     bool mayHoldAt(const IVec2& v) const { return m_live != 0 && m_counts[key(v.x, v.y)] != 0; }
+    /// mayHoldAt for the 8 voxels of row `row` (0..7) of tile t (tile coordinates): bit i for voxel
+    /// (8 t.x + i, 8 t.y + row). One 8-byte read (a tile's row of counts is contiguous: key()); voxels past
+    /// the grid's edge have count 0.
+    std::uint8_t mayHoldRow(const IVec2& t, int row) const {
+        if (m_live == 0) return 0;
+        std::uint64_t w;
+        std::memcpy(&w, m_counts.data() + (std::size_t(t.y) * std::size_t(m_tiles.x) + std::size_t(t.x)) * kTileArea +
+                            (std::size_t(row) << kTileShift), sizeof w);
+        // Bit 7 of each byte: set when the byte is non-zero (its low 7 bits plus 0x7f carry into bit 7, or
+        // bit 7 was set), without carries between bytes. Then bit 8 i -> bit 56 + i by one product.
+        constexpr std::uint64_t kLow7 = 0x7f7f7f7f7f7f7f7fULL;
+        const std::uint64_t nonZero = ((((w & kLow7) + kLow7) | w) & ~kLow7) >> 7;
+        return std::uint8_t((nonZero * 0x0102040810204080ULL) >> 56);
+    }
     /// Whether some TBV may hold a voxel of tile t (tile coordinates, 8 x 8 voxels: the brick traversal's
     /// bricks): false is a guarantee (every insert lists the slot in each tile its ring crosses).
     bool mayHoldTile(const IVec2& t) const {

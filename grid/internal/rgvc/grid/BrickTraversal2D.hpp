@@ -63,15 +63,16 @@ public:
     /// @param mayHoldTbv bool(IVec2 brick): whether a TBV may hold a voxel of that brick (false: a guarantee).
     /// @param onVoxel    void(VoxelKey, IVec2 voxel): called for every voxel of a visited brick that is in
     ///                   view and holds ids. Its visited mark is set (stamp). It may add ids and draw.
-    /// @param onTbvVoxel void(IVec2 voxel): for a visited brick that may hold a TBV, called after the
-    ///                   brick's ids for each of its voxels in view; the caller looks the voxel up in T and
-    ///                   tests it against the image.
+    /// @param onTbvs     void(IVec2 brick, const std::uint8_t inView[8]): for a visited brick that may hold
+    ///                   a TBV, called after the brick's ids with its voxels in view (bit x - lo.x of row
+    ///                   y - lo.y, lo = 8 brick); the caller looks them up in T and tests them against the
+    ///                   image.
     /// @param insideObject bool(VoxelKey seed, IVec2 lo, IVec2 hi): whether the voxel box lo..hi (inclusive)
     ///                   grown from opaque voxel `seed` lies inside one box object the caller draws itself.
-    template <class MayHoldTbv, class OnVoxel, class OnTbvVoxel, class InsideObject>
+    template <class MayHoldTbv, class OnVoxel, class OnTbvs, class InsideObject>
     BrickTraversalStats2D run(const GridGeometry2& grid, Storage& storage, const ViewWedge& wedge,
                               OcclusionBuffer2D* image, std::uint32_t stamp, MayHoldTbv&& mayHoldTbv,
-                              OnVoxel&& onVoxel, OnTbvVoxel&& onTbvVoxel, InsideObject&& insideObject) {
+                              OnVoxel&& onVoxel, OnTbvs&& onTbvs, InsideObject&& insideObject) {
         BrickTraversalStats2D st;
         const double grow = wedge.slack();
         const BrickWalkStats ws = walkBricks<2>(
@@ -93,7 +94,7 @@ public:
                 return false;
             },
             [&](const IVec2& brick, const IVec2& lo, const IVec2& hi) {
-                visitBrick(grid, storage, wedge, image, brick, lo, hi, stamp, mayHoldTbv(brick), onVoxel, onTbvVoxel,
+                visitBrick(grid, storage, wedge, image, brick, lo, hi, stamp, mayHoldTbv(brick), onVoxel, onTbvs,
                            insideObject, st);
             });
         st.nodesVisited = ws.nodesVisited;
@@ -102,10 +103,10 @@ public:
     }
 
 private:
-    template <class OnVoxel, class OnTbvVoxel, class InsideObject>
+    template <class OnVoxel, class OnTbvs, class InsideObject>
     void visitBrick(const GridGeometry2& grid, Storage& storage, const ViewWedge& wedge, OcclusionBuffer2D* image,
                     const IVec2& brick, const IVec2& lo, const IVec2& hi, std::uint32_t stamp, bool tbvHere,
-                    OnVoxel& onVoxel, OnTbvVoxel& onTbvVoxel, InsideObject& insideObject, BrickTraversalStats2D& st) {
+                    OnVoxel& onVoxel, OnTbvs& onTbvs, InsideObject& insideObject, BrickTraversalStats2D& st) {
         ++st.bricksVisited;
         // A brick wholly in view needs no per-voxel test. The wedge (<= 180 degrees or the full circle) and
         // the far disc are convex, so four corners in view put the whole box in view.
@@ -164,10 +165,7 @@ private:
                 onVoxel(VoxelKey(row + std::uint32_t(x)), IVec2{x, y});
             }
         }
-        if (tbvHere)
-            for (std::int32_t y = lo.y; y < hi.y; ++y)
-                for (std::uint32_t bits = inView[y - lo.y]; bits != 0; bits &= bits - 1)
-                    onTbvVoxel(IVec2{lo.x + std::countr_zero(bits), y});
+        if (tbvHere) onTbvs(brick, inView);
         // (Not over a storage shared by concurrent views, kSharedScene: the pyramid is the scene's; it is
         // left as a superset, which only costs a later walk the brick's voxels once more.)
         if constexpr (!requires { Storage::kSharedScene; }) {
