@@ -110,8 +110,23 @@ std::size_t countOf(const std::vector<ObjectSlot>& v, ObjectSlot s) { return std
 
 // Checks every in-grid voxel of a 2D T holding `regions` (slot i+offset of each) against expect2D.
 // Returns false on the first bad voxel (after a CHECK that prints it).
-bool check2D(const TbvMatrix<2>& t, const IVec2& res, const std::vector<TbvRegion<2>>& regions,
+// First holdsAt alone on every voxel (read-only: a tile no lookup has needed yet answers from its list),
+// then collectAt (which writes the counts of the tiles it reads), holdsAt again and the filters.
+bool check2D(TbvMatrix<2>& t, const IVec2& res, const std::vector<TbvRegion<2>>& regions,
              const std::vector<ObjectSlot>& slots, const std::vector<bool>& live, TbvDiscretization mode) {
+    std::vector<char> heldBefore(std::size_t(res.x) * std::size_t(res.y));
+    for (std::int32_t y = 0; y < res.y; ++y)
+        for (std::int32_t x = 0; x < res.x; ++x) {
+            const bool held = heldBefore[std::size_t(y) * std::size_t(res.x) + std::size_t(x)] = t.holdsAt({x, y});
+            for (std::size_t i = 0; i < regions.size(); ++i) {
+                const Expect e = live[i] ? expect2D(regions[i], {x, y}, mode) : Expect::MustNot;
+                if (e == Expect::Must && !held) {
+                    INFO("voxel (" << x << ", " << y << ") read-only holdsAt misses slot " << slots[i] << "; " << describe(regions[i]));
+                    CHECK(held);
+                    return false;
+                }
+            }
+        }
     std::vector<ObjectSlot> got;
     for (std::int32_t y = 0; y < res.y; ++y)
         for (std::int32_t x = 0; x < res.x; ++x) {
@@ -140,7 +155,8 @@ bool check2D(const TbvMatrix<2>& t, const IVec2& res, const std::vector<TbvRegio
                     return false;
                 }
             }
-            if (t.holdsAt({x, y}) != !got.empty() || (anyMust && got.empty())) {
+            if (t.holdsAt({x, y}) != !got.empty() || (anyMust && got.empty()) ||
+                (heldBefore[std::size_t(y) * std::size_t(res.x) + std::size_t(x)] != 0) != !got.empty()) {
                 INFO("voxel (" << x << ", " << y << ") holdsAt disagrees with collectAt");
                 CHECK(false);
                 return false;
@@ -323,6 +339,71 @@ TEST_CASE("tbv: 2D counts saturate at 255 without losing a region (more than 255
     for (std::int32_t y = 0; y < res.y; ++y)
         for (std::int32_t x = 0; x < res.x; ++x) t.collectAt({x, y}, got);
     CHECK(got.empty());
+}
+
+TEST_CASE("tbv: 2D counts are written only for tiles a lookup needs, and lookups answer as if all were", "[tbv]") {
+    // Inserts, erases and lookups interleaved at random, so regions enter and leave tiles whose counts
+    // are written (hot) and tiles whose are not (cold), and tiles turn hot between an insert and its erase.
+    const std::uint64_t seed = 505;
+    std::mt19937_64 rng(seed);
+    for (int iter = 0; iter < 60; ++iter) {
+        const TbvDiscretization mode = iter % 3 == 2 ? TbvDiscretization::Filled : TbvDiscretization::Boundary;
+        const IVec2 res{sr::uniformInt(rng, 5, 40), sr::uniformInt(rng, 5, 40)};
+        INFO("seed " << seed << " iteration " << iter << " grid " << res.x << "x" << res.y);
+        TbvMatrix<2> t(res);
+        std::vector<TbvRegion<2>> regions;
+        std::vector<ObjectSlot> slots;
+        std::vector<bool> live;
+        // Inserts alone write no counts: every tile stays cold (the laziness this test is about).
+        for (int i = 0; i < 6; ++i) {
+            regions.push_back(randomDisc(rng, res));
+            slots.push_back(ObjectSlot(regions.size() * 3));
+            live.push_back(true);
+            t.insert(slots.back(), regions.back(), mode);
+        }
+        CHECK(t.hotTiles() == 0);
+        std::vector<ObjectSlot> got;
+        for (int step = 0; step < 80; ++step) {
+            const double u = sr::uniform(rng, 0, 1);
+            if (u < 0.25) {
+                regions.push_back(randomDisc(rng, res));
+                slots.push_back(ObjectSlot(regions.size() * 3));
+                live.push_back(true);
+                t.insert(slots.back(), regions.back(), mode);
+            } else if (u < 0.45) {
+                std::vector<std::size_t> alive;
+                for (std::size_t i = 0; i < live.size(); ++i)
+                    if (live[i]) alive.push_back(i);
+                if (alive.empty()) continue;
+                const std::size_t i = alive[std::size_t(sr::uniformInt(rng, 0, int(alive.size()) - 1))];
+                t.erase(slots[i], regions[i], mode);
+                live[i] = false;
+            } else {
+                // A lookup at one voxel: collectAt or mayHoldRow heat its tile.
+                const IVec2 v{sr::uniformInt(rng, 0, res.x - 1), sr::uniformInt(rng, 0, res.y - 1)};
+                got.clear();
+                const bool collect = u < 0.75;
+                bool mayBit = false;
+                if (collect) t.collectAt(v, got);
+                else mayBit = ((t.mayHoldRow({v.x >> 3, v.y >> 3}, v.y & 7) >> (v.x & 7)) & 1) != 0;
+                for (std::size_t i = 0; i < regions.size(); ++i) {
+                    const Expect e = live[i] ? expect2D(regions[i], v, mode) : Expect::MustNot;
+                    const std::size_t n = countOf(got, slots[i]);
+                    const bool ok = collect ? n <= 1 && (e != Expect::Must || n == 1) && (e != Expect::MustNot || n == 0)
+                                            : e != Expect::Must || mayBit; // (false is a guarantee)
+                    INFO("step " << step << " voxel (" << v.x << ", " << v.y << ") slot " << slots[i] << " held " << n
+                                 << " times; " << describe(regions[i]));
+                    REQUIRE(ok);
+                }
+            }
+        }
+        REQUIRE(check2D(t, res, regions, slots, live, mode));
+        // freshen(): every tile a live ring crosses is hot, and no lookup writes after it.
+        t.freshen();
+        const std::size_t hot = t.hotTiles();
+        REQUIRE(check2D(t, res, regions, slots, live, mode));
+        CHECK(t.hotTiles() == hot);
+    }
 }
 
 TEST_CASE("tbv: 3D shell (2 of 3 projections) and filled box match brute force, several regions at once", "[tbv]") {
