@@ -206,7 +206,12 @@ private:
     /// Writes a cold tile's counts from the TBVs of its list (each one's runs clipped to the tile), and
     /// keeps it hot. A cold tile's counts are all zero: no insert or erase wrote them.
     void warm(std::size_t tile) {
-        if (m_tileHot[tile] != 0 || m_tileHeads[tile] == kNone) return;
+        if (m_tileHot[tile] == 0 && m_tileHeads[tile] != kNone) heat(tile);
+    }
+    // Out of line: it runs once per tile, and inlined into every lookup it grew the walk's translation
+    // unit enough that GCC stopped inlining a vector's push_back into the 3D classify (+0.7 % instructions
+    // on the 3D clusters).
+    [[gnu::noinline]] void heat(std::size_t tile) {
         m_tileHot[tile] = 1;
         const std::int32_t tx = std::int32_t(tile % std::size_t(m_tiles.x)), ty = std::int32_t(tile / std::size_t(m_tiles.x));
         const std::int32_t xa = tx << kTileShift, xb = std::min(m_res.x - 1, xa + kTileMask);
