@@ -499,6 +499,17 @@ static inline bool uncoveredSpan(const double* row, double nearest, int& i0, int
     return true;
 }
 
+inline bool OcclusionBuffer3D::openRowSpan(const Footprint& f, int j, double nearest, int& i0, int& i1) const {
+    // The rectangle's row first: where all of it is covered nearer (behind a wall, most rows), the
+    // polygon's span (a clip per edge, two divisions each) is not needed.
+    const double* row = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
+    int u0 = f.rect.i0, u1 = f.rect.i1;
+    if (!uncoveredSpan(row, nearest, u0, u1) || !rowSpan(f, j, i0, i1)) return false;
+    i0 = std::max(i0, u0);
+    i1 = std::min(i1, u1);
+    return i0 <= i1 && uncoveredSpan(row, nearest, i0, i1);
+}
+
 /// The largest c.d over the rays d of each pixel of a rectangle, row after row (OcclusionBuffer3D::
 /// hiddenBall, hiddenBoxExact), for a vector c in camera coordinates (right, up, forward).
 /// Why it is exact. In image coordinates d ∝ (x, y, 1), and c.d / |c| = cos θ, θ the angle between d and
@@ -691,16 +702,10 @@ bool OcclusionBuffer3D::hiddenBoxExact(const Vec3& lo, const Vec3& hi, double ne
     bool hiddenAll = n > 0; // n = 0: the apex inside the box (callers never get here then)
     for (int j = r.j0; j <= r.j1 && hiddenAll; ++j) {
         // The maxima only where the span is not covered nearer (t >= nearest). On the 3D cities' node
-        // tests the rest was a fifth of the spans' pixels, and half of the rows had none: the rectangle's
-        // row is trimmed first, and the span (a clip per polygon edge) computed only for rows left open.
-        const double* depth = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
-        int u0 = r.i0, u1 = r.i1;
-        if (!uncoveredSpan(depth, nearest, u0, u1)) continue;
+        // tests the rest was a fifth of the spans' pixels, and half of the rows had none.
         int i0, i1;
-        if (!rowSpan(f, j, i0, i1)) continue;
-        i0 = std::max(i0, u0);
-        i1 = std::min(i1, u1);
-        if (i0 > i1 || !uncoveredSpan(depth, nearest, i0, i1)) continue;
+        if (!openRowSpan(f, j, nearest, i0, i1)) continue;
+        const double* depth = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
         const double* m[3] = {nullptr, nullptr, nullptr};
         for (int k = 0; k < n; ++k) m[k] = axes[k]->next(j, i0, i1);
         for (int i = i0; i <= i1; ++i) {
@@ -830,17 +835,11 @@ bool OcclusionBuffer3D::scanFootprint(const Footprint& f, double nearest) const 
         }
         return true;
     }
+    // A row fails exactly when some pixel of its span is not covered nearer, i.e. when its open span is
+    // not empty (whose ends are such pixels).
     for (int j = r.j0; j <= r.j1; ++j) {
-        // The rectangle's row first: where all of it is covered nearer (behind a wall, most rows), the
-        // polygon's span (a clip per edge, two divisions each) is not needed; otherwise only the span's
-        // part between the first and the last uncovered pixel is read.
-        const double* row = m_depth.data() + std::size_t(j) * std::size_t(m_cols);
-        int u0 = r.i0, u1 = r.i1;
-        if (!uncoveredSpan(row, nearest, u0, u1)) continue;
         int i0, i1;
-        if (!rowSpan(f, j, i0, i1)) continue;
-        for (int i = std::max(i0, u0); i <= std::min(i1, u1); ++i)
-            if (!(row[i] < nearest)) return false;
+        if (openRowSpan(f, j, nearest, i0, i1)) return false;
     }
     return true;
 }
@@ -865,6 +864,5 @@ bool OcclusionBuffer3D::hiddenParts(const Vec3& lo, const Vec3& hi, int levels, 
     }
     return true;
 }
-
 
 } // namespace rgvc

@@ -80,7 +80,7 @@ public:
                 }
                 if (m_tileHot[tile] != 0)
                     forEachCount(y, std::max(x0, t << kTileShift), std::min(x1, (t << kTileShift) + kTileMask),
-                                 [](std::uint8_t& c) { c = std::uint8_t(c + (c != kSticky)); });
+                                 addOne);
             }
         });
         st.incidences = n;
@@ -105,7 +105,7 @@ public:
                     for (std::int32_t t = x0 >> kTileShift; t <= (x1 >> kTileShift); ++t)
                         if (m_tileHot[tileRow + std::size_t(t)] != 0)
                             forEachCount(y, std::max(x0, t << kTileShift), std::min(x1, (t << kTileShift) + kTileMask),
-                                         [](std::uint8_t& c) { c = std::uint8_t(c - (c != kSticky)); });
+                                         removeOne);
                 });
         }
         m_tileLists.eraseAll(slot);
@@ -199,6 +199,9 @@ private:
     std::size_t tileOf(const IVec2& v) const {
         return std::size_t(v.y >> kTileShift) * std::size_t(m_tiles.x) + std::size_t(v.x >> kTileShift);
     }
+    /// A count's step up or down; kSticky stays (see m_counts).
+    static void addOne(std::uint8_t& c) { c = std::uint8_t(c + (c != kSticky)); }
+    static void removeOne(std::uint8_t& c) { c = std::uint8_t(c - (c != kSticky)); }
     /// fn(count) for voxels x0..x1 of row y, all in one tile.
     template <class Fn> void forEachCount(std::int32_t y, std::int32_t x0, std::int32_t x1, Fn&& fn) {
         for (std::int32_t x = x0; x <= x1; ++x) fn(m_counts[key(x, y)]);
@@ -222,7 +225,7 @@ private:
                 tbvRowRuns2D(st.region, m_res, st.mode, y, [&](std::int32_t, std::int32_t x0, std::int32_t x1) {
                     x0 = std::max(x0, xa);
                     x1 = std::min(x1, xb);
-                    if (x0 <= x1) forEachCount(y, x0, x1, [](std::uint8_t& c) { c = std::uint8_t(c + (c != kSticky)); });
+                    if (x0 <= x1) forEachCount(y, x0, x1, addOne);
                 });
         });
     }

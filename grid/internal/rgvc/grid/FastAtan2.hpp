@@ -20,8 +20,8 @@
 // gives the same figure, the two evaluations differing by at most 3.3e-16), was sampled at t = i 1e-8,
 // i = 0..10^8, against atanl: its largest magnitude is 1.51e-9. Between samples e moves by at most
 // |e'| 0.5e-8, and |e'(t)| = |p(u) + 2 u p'(u) - 1 / (1 + t^2)| <= sum (2k + 1) |c_k| + 1 = 8.31 on [0, 1],
-// so |e| <= 1.51e-9 + 4.2e-8 < 1e-7 everywhere in [0, 1]. The octant mapping adds rounding of ~1e-15. test_occlusion_buffer2d
-// samples again (every 1e-7 of t, and 10^6 directions around the circle) against std::atan2.
+// so |e| <= 1.51e-9 + 4.2e-8 < 1e-7 everywhere in [0, 1]. The octant mapping adds rounding of ~1e-15.
+// test_occlusion_buffer2d samples again (every 1e-7 of t, and 10^6 directions around the circle) against std::atan2.
 // Special values, as std::atan2 for the signs of zero (the result of +-0 and of a zero x keeps y's
 // sign); a NaN in either argument, and both arguments infinite, give NaN (std::atan2 gives +-pi/4 for
 // the latter): every caller treats NaN as "direction unknown", which is conservative.
