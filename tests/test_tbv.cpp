@@ -232,6 +232,7 @@ TEST_CASE("tbv: 2D ring and filled disc match brute force on thousands of random
             const std::size_t written = t.insert(slot, r, mode);
             CHECK(t.incidences() == written);
             std::size_t held = 0;
+            std::set<std::pair<int, int>> heldTiles; // the 8 x 8 tiles with a voxel that holds the slot
             bool ok = true;
             for (std::int32_t y = 0; y < res.y && ok; ++y)
                 for (std::int32_t x = 0; x < res.x && ok; ++x) {
@@ -241,6 +242,7 @@ TEST_CASE("tbv: 2D ring and filled disc match brute force on thousands of random
                     mayVoxels += e == Expect::May;
                     const bool in = got.size() == 1 && got[0] == slot;
                     held += in;
+                    if (in) heldTiles.insert({x >> 3, y >> 3});
                     ok = (got.empty() || in) && (e != Expect::Must || in) && (e != Expect::MustNot || !in);
                     // tbvTouches is the same predicate as the filled discretization (up to the band).
                     double nearest, farthest;
@@ -255,7 +257,12 @@ TEST_CASE("tbv: 2D ring and filled disc match brute force on thousands of random
                     }
                 }
             REQUIRE(ok);
-            CHECK(held == written); // one incidence per voxel: no voxel written twice
+            // One incidence per tile the discretization crosses, and no other: the lists are no looser than
+            // the voxels (tbvBandRuns2D finds them a tile row at a time), and the counts hold each voxel once.
+            CHECK(written == heldTiles.size());
+            std::size_t runVoxels = 0;
+            forEachTbvRun2D(r, res, mode, [&](std::int32_t, std::int32_t x0, std::int32_t x1) { runVoxels += std::size_t(x1 - x0 + 1); });
+            CHECK(held == runVoxels);
             CHECK(t.erase(slot, r, mode) == written);
             CHECK(t.incidences() == 0);
             ++regionsChecked;
@@ -263,6 +270,44 @@ TEST_CASE("tbv: 2D ring and filled disc match brute force on thousands of random
         CHECK(regionsChecked == 3000);
         CHECK(mayVoxels < 3000); // the band is a rounding allowance, not a loophole
     }
+}
+
+TEST_CASE("tbv: a band of rows' two runs hold every run of its rows, and no more voxels", "[tbv]") {
+    // tbvBandRuns2D (which tiles an insert lists the TBV in) against tbvRowRuns2D row by row: the same
+    // columns, as sets, over bands of 1 to 20 rows anywhere on and off the disc, both discretizations.
+    const std::uint64_t seed = 606;
+    std::mt19937_64 rng(seed);
+    std::size_t nonEmpty = 0;
+    for (int iter = 0; iter < 4000; ++iter) {
+        const TbvDiscretization mode = iter % 4 == 3 ? TbvDiscretization::Filled : TbvDiscretization::Boundary;
+        const IVec2 res{sr::uniformInt(rng, 1, 60), sr::uniformInt(rng, 1, 60)};
+        const TbvRegion<2> r = randomDisc(rng, res);
+        const std::int32_t yA = sr::uniformInt(rng, 0, res.y - 1);
+        const std::int32_t yB = std::min(res.y - 1, yA + sr::uniformInt(rng, 0, 19));
+        INFO("seed " << seed << " iteration " << iter << " grid " << res.x << "x" << res.y << " rows " << yA << ".." << yB
+                     << " " << describe(r));
+        std::vector<char> rows(std::size_t(res.x), 0), band(std::size_t(res.x), 0);
+        for (std::int32_t y = yA; y <= yB; ++y)
+            tbvRowRuns2D(r, res, mode, y, [&](std::int32_t, std::int32_t x0, std::int32_t x1) {
+                for (std::int32_t x = x0; x <= x1; ++x) rows[std::size_t(x)] = 1;
+            });
+        int runs = 0;
+        tbvBandRuns2D(r, res, mode, yA, yB, [&](std::int32_t x0, std::int32_t x1) {
+            ++runs;
+            REQUIRE(0 <= x0);
+            REQUIRE(x0 <= x1);
+            REQUIRE(x1 < res.x);
+            for (std::int32_t x = x0; x <= x1; ++x) band[std::size_t(x)] = 1;
+        });
+        CHECK(runs <= 2);
+        for (std::int32_t x = 0; x < res.x; ++x) {
+            INFO("column " << x << ": rows " << int(rows[std::size_t(x)]) << ", band " << int(band[std::size_t(x)]));
+            REQUIRE(rows[std::size_t(x)] <= band[std::size_t(x)]); // conservative: every row's voxel
+            REQUIRE(rows[std::size_t(x)] == band[std::size_t(x)]); // tight: the ring is 4-connected
+        }
+        nonEmpty += std::count(rows.begin(), rows.end(), 1) > 0;
+    }
+    CHECK(nonEmpty > 1000); // most bands meet their disc
 }
 
 TEST_CASE("tbv: 2D overlapping regions keep their own slots once each, and erasing all leaves T empty", "[tbv]") {

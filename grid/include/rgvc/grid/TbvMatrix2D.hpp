@@ -9,7 +9,9 @@
 
 namespace rgvc {
 
-/// 2D T: a count of TBVs per voxel, and per 8 x 8 tile of voxels a list of the TBVs whose ring crosses it.
+/// 2D T: a count of TBVs per voxel, and per 8 x 8 tile of voxels a list of the TBVs whose ring crosses it
+/// (and, where rounding within kConservativeSlack of a voxel corner widens a band's runs, perhaps a tile
+/// beside those: tbvBandRuns2D; lookups test the voxel, so a list may be longer, never shorter).
 /// Allocated on the first insert (a scene without moving objects never allocates or reads it).
 ///
 /// Why counts and tiles, not a list per voxel: with 100,000 hidden objects rings overlap by the dozen
@@ -24,9 +26,10 @@ namespace rgvc {
 /// that hold some TBV's ring: around a closed room, or in a large world, most rings lie where no lookup
 /// goes. T's inserts and erases were 22-49 % of the 2D classes' instructions (rgvc_bench_classes' random
 /// scenes, city, room and large world), and writing counts only where lookups go took 6-15 % off the
-/// classes' totals (the rings' rows are still computed on insert: they say which tiles list the TBV;
-/// an erase computes only the rows of tile rows with a hot tile). So a tile no lookup has needed yet
-/// ("cold") keeps only its list, and its counts stay zero; the first lookup that needs them (mayHoldAt,
+/// classes' totals. An insert finds the tiles that list the TBV a tile row at a time (tbvBandRuns2D),
+/// and it and an erase compute a ring's rows only in tile rows with a hot tile (computing every row on
+/// insert was a third of the 2D room's instructions after the counts went lazy). So a tile no lookup
+/// has needed yet ("cold") keeps only its list, and its counts stay zero; the first lookup that needs them (mayHoldAt,
 /// mayHoldRow, collectAt) writes them from the list's TBVs (each TBV's runs clipped to the tile), and the
 /// tile stays "hot": inserts and erases update its counts from then on. holdsAt answers a cold tile from
 /// its list without writing, and freshen() heats every cold tile that has a list, after which no lookup
@@ -40,8 +43,9 @@ public:
     explicit TbvMatrix(const IVec2& res)
         : m_res(res), m_tiles{((res.x - 1) >> kTileShift) + 1, ((res.y - 1) >> kTileShift) + 1} {}
 
-    /// Adds the slot's region. Returns the number of voxels of its discretization in the grid (its
-    /// incidences, whether or not their tiles' counts are written yet).
+    /// Adds the slot's region. Returns the T incidences written: the tile list nodes, one per tile its
+    /// discretization crosses (as TbvMatrix<3> counts its brick lists' nodes; the counts of hot tiles are
+    /// a cache of those lists, not counted).
     std::size_t insert(ObjectSlot slot, const TbvRegion<2>& r, TbvDiscretization mode) {
         if (m_counts.size() == 0) {
             m_counts = ZeroedArray<std::uint8_t>(std::size_t(m_tiles.x) * std::size_t(m_tiles.y) * kTileArea);
@@ -53,39 +57,41 @@ public:
         Stored& st = m_regions[slot];
         st.region = r;
         st.mode = mode;
+        ++m_live;
+        // The tiles of its voxel box (erase looks for hot ones there): they hold every tile its ring crosses.
+        IVec2 lo, hi;
+        if (!tbvVoxelBox<2>(r, m_res, lo, hi)) {
+            st.tileLo = IVec2(0);
+            st.tileHi = IVec2(-1);
+            return 0;
+        }
+        st.tileLo = lo >> kTileShift;
+        st.tileHi = hi >> kTileShift;
         if (++m_mark == 0) { // wrapped: forget every old mark
             std::fill(m_tileMark.begin(), m_tileMark.end(), 0);
             m_mark = 1;
         }
         std::size_t n = 0;
-        // The tiles of its voxel box (erase looks for hot ones there): they hold every tile its ring crosses.
-        IVec2 lo, hi;
-        if (tbvVoxelBox<2>(r, m_res, lo, hi)) {
-            st.tileLo = lo >> kTileShift;
-            st.tileHi = hi >> kTileShift;
-        } else {
-            st.tileLo = IVec2(0);
-            st.tileHi = IVec2(-1);
-        }
-        forEachTbvRun2D(r, m_res, mode, [&](std::int32_t y, std::int32_t x0, std::int32_t x1) {
-            n += std::size_t(x1 - x0 + 1);
-            // Each tile the ring crosses gets the slot once (rows of one tile row meet the same tiles);
-            // a hot tile its count increments too.
-            const std::size_t tileRow = std::size_t(y >> kTileShift) * std::size_t(m_tiles.x);
-            for (std::int32_t t = x0 >> kTileShift; t <= (x1 >> kTileShift); ++t) {
-                const std::size_t tile = tileRow + std::size_t(t);
-                if (m_tileMark[tile] != m_mark) {
-                    m_tileMark[tile] = m_mark;
-                    m_tileLists.add(m_tileHeads[tile], slot);
+        // A tile row at a time: the band's runs (tbvBandRuns2D: two square roots for its 8 rows) say which
+        // tiles list the slot, each once (a band's two runs may share a tile). Only a band that meets a
+        // hot tile computes its rows, to add to that tile's counts.
+        for (std::int32_t ty = st.tileLo.y; ty <= st.tileHi.y; ++ty) {
+            const std::int32_t yA = ty << kTileShift, yB = std::min(m_res.y - 1, yA + kTileMask);
+            const std::size_t tileRow = std::size_t(ty) * std::size_t(m_tiles.x);
+            bool anyHot = false;
+            tbvBandRuns2D(r, m_res, mode, yA, yB, [&](std::int32_t x0, std::int32_t x1) {
+                for (std::int32_t t = x0 >> kTileShift; t <= (x1 >> kTileShift); ++t) {
+                    const std::size_t tile = tileRow + std::size_t(t);
+                    if (m_tileMark[tile] != m_mark) {
+                        m_tileMark[tile] = m_mark;
+                        m_tileLists.add(m_tileHeads[tile], slot);
+                        ++n;
+                    }
+                    anyHot = anyHot || m_tileHot[tile] != 0;
                 }
-                if (m_tileHot[tile] != 0)
-                    forEachCount(y, std::max(x0, t << kTileShift), std::min(x1, (t << kTileShift) + kTileMask),
-                                 addOne);
-            }
-        });
-        st.incidences = n;
-        m_incidences += n;
-        ++m_live;
+            });
+            if (anyHot) updateHotCounts(st, ty, addOne);
+        }
         return n;
     }
     /// Removes the slot's region (added with these arguments). Returns the incidences removed. Cost: its
@@ -98,20 +104,10 @@ public:
             const std::size_t tileRow = std::size_t(ty) * std::size_t(m_tiles.x);
             bool anyHot = false;
             for (std::int32_t tx = st.tileLo.x; tx <= st.tileHi.x && !anyHot; ++tx) anyHot = m_tileHot[tileRow + std::size_t(tx)] != 0;
-            if (!anyHot) continue;
-            const std::int32_t y1 = std::min(m_res.y - 1, (ty << kTileShift) + kTileMask);
-            for (std::int32_t y = ty << kTileShift; y <= y1; ++y)
-                tbvRowRuns2D(st.region, m_res, st.mode, y, [&](std::int32_t, std::int32_t x0, std::int32_t x1) {
-                    for (std::int32_t t = x0 >> kTileShift; t <= (x1 >> kTileShift); ++t)
-                        if (m_tileHot[tileRow + std::size_t(t)] != 0)
-                            forEachCount(y, std::max(x0, t << kTileShift), std::min(x1, (t << kTileShift) + kTileMask),
-                                         removeOne);
-                });
+            if (anyHot) updateHotCounts(st, ty, removeOne);
         }
-        m_tileLists.eraseAll(slot);
-        m_incidences -= st.incidences;
         --m_live;
-        return st.incidences;
+        return m_tileLists.eraseAll(slot);
     }
     /// Appends the slots whose TBV covers voxel v (in the grid) to out. Writes v's tile's counts first if
     /// they are not yet.
@@ -175,7 +171,8 @@ public:
     }
     std::size_t liveRegions() const { return m_live; }
     bool allocated() const { return m_counts.size() != 0; }
-    std::size_t incidences() const { return m_incidences; }
+    /// Tile list nodes in use (what inserts returned less what erases did).
+    std::size_t incidences() const { return m_tileLists.size(); }
     /// Tiles whose counts are written (at most one per tile that some lookup needed or freshen() heated).
     std::size_t hotTiles() const { return std::size_t(std::count(m_tileHot.begin(), m_tileHot.end(), 1)); }
 
@@ -183,7 +180,6 @@ private:
     struct Stored {
         TbvRegion<2> region;
         TbvDiscretization mode = TbvDiscretization::Boundary;
-        std::size_t incidences = 0; // voxels of its discretization in the grid
         IVec2 tileLo{0}, tileHi{-1}; // the tiles of its voxel box (tbvVoxelBox): every tile its ring crosses
     };
     static constexpr std::size_t kTileArea = std::size_t(1) << (2 * kTileShift);
@@ -205,6 +201,18 @@ private:
     /// fn(count) for voxels x0..x1 of row y, all in one tile.
     template <class Fn> void forEachCount(std::int32_t y, std::int32_t x0, std::int32_t x1, Fn&& fn) {
         for (std::int32_t x = x0; x <= x1; ++x) fn(m_counts[key(x, y)]);
+    }
+    /// fn(count) for the voxels of the region's runs in tile row ty that lie in hot tiles (an insert's or
+    /// an erase's count updates).
+    template <class Fn> void updateHotCounts(const Stored& st, std::int32_t ty, Fn&& fn) {
+        const std::size_t tileRow = std::size_t(ty) * std::size_t(m_tiles.x);
+        const std::int32_t y1 = std::min(m_res.y - 1, (ty << kTileShift) + kTileMask);
+        for (std::int32_t y = ty << kTileShift; y <= y1; ++y)
+            tbvRowRuns2D(st.region, m_res, st.mode, y, [&](std::int32_t, std::int32_t x0, std::int32_t x1) {
+                for (std::int32_t t = x0 >> kTileShift; t <= (x1 >> kTileShift); ++t)
+                    if (m_tileHot[tileRow + std::size_t(t)] != 0)
+                        forEachCount(y, std::max(x0, t << kTileShift), std::min(x1, (t << kTileShift) + kTileMask), fn);
+            });
     }
     /// Writes a cold tile's counts from the TBVs of its list (each one's runs clipped to the tile), and
     /// keeps it hot. A cold tile's counts are all zero: no insert or erase wrote them.
@@ -245,7 +253,6 @@ private:
     std::vector<std::uint32_t> m_tileMark; // per tile: the insert that last added to its list
     std::vector<std::uint8_t> m_tileHot;   // per tile: its counts are written (a lookup needed them)
     std::uint32_t m_mark = 0;
-    std::size_t m_incidences = 0;
     std::size_t m_live = 0;
 };
 

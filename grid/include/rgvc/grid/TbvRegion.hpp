@@ -117,6 +117,51 @@ template <class Fn> void tbvRowRuns2D(const TbvRegion<2>& r, const IVec2& res, T
     if (i1 + 1 <= t1) fn(y, std::max(t0, i1 + 1), t1);
 }
 
+/// Calls fn(x0, x1) for at most two runs of voxels, clipped to x in [0, res.x), that together hold every
+/// run tbvRowRuns2D gives for the rows yA..yB: which tiles a band of rows meets, for two square roots
+/// instead of two per row (TbvMatrix<2>'s inserts; computing every row was a third of the 2D room's
+/// instructions).
+/// Why they hold the rows' runs. A row's runs are its outer span [t0, t1] (the voxels touching the disc)
+/// less its hole [i0, i1] (the voxels inside the open disc). Both are centred on c.x and shrink as the
+/// row's distance from c.y grows, through monotone operations (products, sqrt, floor, ceil), so every
+/// row's span lies in the span of the band's nearest row and every row's hole holds the hole of its
+/// farthest row: each row's runs lie in the one less the other. The band's nearest and farthest
+/// distances below are the same floating expressions as those two rows' own (the nearest row's dyMin,
+/// the farthest row's dyMax: |t - c.y| is largest at the band's ends yA and yB + 1), so the bounds are the
+/// very values those rows compute.
+/// How tight. The ring is the set of voxels touching the closed annulus between the radii (a voxel is
+/// connected, so it holds every distance between its nearest and farthest), and the closed voxels that
+/// a connected set touches are 4-connected (passing to a diagonal neighbour through a corner touches all
+/// four voxels there). So the runs of consecutive rows on one side overlap, and each side's union is the
+/// one interval from the nearest row's outer end to the farthest row's inner end: the runs given here are
+/// the rows' union, but for rounding within kConservativeSlack of a voxel corner (where they are larger).
+template <class Fn> void tbvBandRuns2D(const TbvRegion<2>& r, const IVec2& res, TbvDiscretization mode, std::int32_t yA,
+                                       std::int32_t yB, Fn&& fn) {
+    const Vec2 c = r.centre;
+    const double outer = r.radius + kConservativeSlack;
+    const double inner = r.radius - kConservativeSlack;
+    const double dyMin = std::max({double(yA) - c.y, c.y - double(yB + 1), 0.0});
+    if (dyMin > outer) return;
+    const double wOut = std::sqrt(outer * outer - dyMin * dyMin);
+    const std::int32_t t0 = std::max<std::int32_t>(0, std::int32_t(std::ceil(c.x - wOut)) - 1);
+    const std::int32_t t1 = std::min<std::int32_t>(res.x - 1, std::int32_t(std::floor(c.x + wOut)));
+    if (t0 > t1) return;
+    const double dyMax = std::max(std::abs(double(yA) - c.y), std::abs(double(yB + 1) - c.y));
+    if (mode == TbvDiscretization::Filled || !(inner > dyMax)) {
+        fn(t0, t1);
+        return;
+    }
+    const double wIn = std::sqrt(inner * inner - dyMax * dyMax);
+    const std::int32_t i0 = std::int32_t(std::floor(c.x - wIn)) + 1;
+    const std::int32_t i1 = std::int32_t(std::ceil(c.x + wIn)) - 2;
+    if (i0 > i1) {
+        fn(t0, t1);
+        return;
+    }
+    if (t0 <= i0 - 1) fn(t0, std::min(t1, i0 - 1));
+    if (i1 + 1 <= t1) fn(std::max(t0, i1 + 1), t1);
+}
+
 /// The rows a disc's discretization can reach, clipped to [0, res.y).
 inline void tbvRows2D(const TbvRegion<2>& r, const IVec2& res, std::int32_t& y0, std::int32_t& y1) {
     const double outer = r.radius + kConservativeSlack;
