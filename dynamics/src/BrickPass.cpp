@@ -52,7 +52,7 @@ void Culler<D>::Impl::classify(ViewScratch<S>& vs, ObjectSlot slot, const View& 
 
         addToPvs(vs, slot);
         // (CullerOptions::adaptiveImage: a mesh in view keeps the image on next frame.)
-        if (r.at.occludes && std::holds_alternative<MeshSolid>(r.at.local)) vs.meshInView = true;
+        if (r.at.occludes && r.at.template localIs<MeshSolid>()) vs.meshInView = true;
         // Drawn when it spans enough pixels: a smaller occluder hides little of a brick (the refinement
         // pass draws it). Spheres from 16 pixels across: spheres-3d.json took 8.7 ms per frame with a
         // threshold of 4 pixels, 7.5 ms with 16, 4.3 with 32 (|PVS| 192, 199, 210), the clusters scene of
@@ -60,9 +60,9 @@ void Culler<D>::Impl::classify(ViewScratch<S>& vs, ObjectSlot slot, const View& 
         // floors, buildings side by side), and the seams between them fuse only if both are drawn
         // (test_brick_traversal's rooms of unit boxes seen at 138 degrees let an object through at 16).
         // Polytopes (oriented boxes, hulls) are level geometry like boxes, and drawn from 4 pixels too.
-        const bool tiles = std::holds_alternative<Box<D>>(r.at.local);
+        const bool tiles = r.at.template localIs<Box<D>>();
         bool polytope = false;
-        if constexpr (D == 3) polytope = std::holds_alternative<ConvexPolytope>(r.at.local);
+        if constexpr (D == 3) polytope = r.at.template localIs<ConvexPolytope>();
         const double minPixels = tiles || polytope ? 4.0 : kMinTraversalOccluderPixels;
         if (vs.imageActive && r.at.occludes && vs.traversalImage.spans(boundingBall<D>(r.at.local).radius, nearest, minPixels))
         {

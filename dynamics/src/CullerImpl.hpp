@@ -46,6 +46,16 @@
 
 namespace rgvc {
 
+/// The index of T among the alternatives of the variant V (T one of them, once).
+template <class T, class V> constexpr std::size_t variantIndexOf() {
+    return []<std::size_t... I>(std::index_sequence<I...>) {
+        std::size_t index = std::variant_size_v<V>;
+        ((std::is_same_v<T, std::variant_alternative_t<I, V>> ? (index = I, true) : false) || ...);
+        return index;
+    }(std::make_index_sequence<std::variant_size_v<V>>{});
+}
+static_assert(variantIndexOf<Box<3>, Shape<3>>() == 1 && variantIndexOf<Box<2>, Shape<2>>() == 1);
+
 /// dst = src. std::variant's assignment dispatches on both alternatives through a visit (copy-assign,
 /// or destroy and construct) even for two balls: over a tenth of a placement query's instructions, and
 /// each mover is placed again once per TBV renewal (the 100k room). Balls and boxes, nearly every
@@ -81,6 +91,9 @@ template <int D> struct Culler<D>::Impl {
         bool inset = false;        // the occluder is `inner`, not `local`
         bool occludes = true;      // false when the inset leaves nothing
         bool outsideGrid = false;  // partly or wholly outside: also tested against the view region
+        // local.index(), next to the bounds: the variant's own index sits after its ~240 bytes, in a
+        // cache line that classify's kind tests (a mesh in view, a box) would otherwise miss.
+        std::uint8_t kind = 0;
         Shape<D> local;            // voxel units, as rasterized into I and O
         Shape<D> world;
         // The occluder model (ObjectDesc::occluderInset), voxel units: what O holds and the occlusion
@@ -99,7 +112,10 @@ template <int D> struct Culler<D>::Impl {
             occludes = o.occludes;
             worldMagnitude = o.worldMagnitude;
             outsideGrid = o.outsideGrid;
+            kind = o.kind;
         }
+        /// Whether local holds a T (read from `kind`).
+        template <class T> bool localIs() const { return kind == variantIndexOf<T, Shape<D>>(); }
     };
 
     /// Cache-line aligned, with what a view reads of every object it meets first: its state, role, id and

@@ -32,6 +32,7 @@ void Culler<D>::Impl::makePlacementInto(Placement& p, const Shape<D>& world, dou
     else
         p.local = toLocal<D>(world, grid);
     p.localBounds = boundsOf<D>(p.local);
+    p.kind = std::uint8_t(p.local.index());
     p.inset = false;
     p.occludes = true;
     if (role == ObjectRole::Occludee) {
