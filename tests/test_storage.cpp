@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "rgvc/grid/BrickRows.hpp"
+#include "rgvc/grid/StampedBrickBits.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
 
 #include <map>
@@ -116,7 +117,7 @@ TEST_CASE("storage: O flags, I lists and stamps share a cell without disturbing 
     }
 }
 
-TEST_CASE("storage: brick-row words of O, V and U agree with the voxels, and the row helpers with a voxel-by-voxel scan",
+TEST_CASE("storage: brick-row words of O and U and V's bricks agree with the voxels, and the row helpers with a voxel-by-voxel scan",
           "[storage]") {
     // Widths a multiple of 8 and not (the last word of a row is partial, or the next word is the next row's).
     for (const std::int32_t resX : {8, 13, 24, 37}) {
@@ -146,17 +147,19 @@ TEST_CASE("storage: brick-row words of O, V and U agree with the voxels, and the
                 brick_rows::markUsed(s, row, x0, x1, stamp);
                 for (std::int32_t x = x0; x <= x1; ++x) usedAt[k0 + std::uint32_t(x)] = stamp;
                 break;
-            case 3: { // V by words (the walks) and by voxels (the per-voxel traversal)
-                const std::size_t w = s.rowWord(row, x0);
-                const std::uint32_t bits = std::uint32_t(rng() & 0xFF), n = std::uint32_t(std::min(8, resX - (x0 & ~7)));
-                if (n == 8 && (bits & 1u) != 0) { // a whole word (the brick walk's rows wholly in view)
-                    s.setVisitedWord(w, stamp);
-                    for (std::uint32_t b = 0; b < n; ++b) visitedAt[k0 + std::uint32_t(x0 & ~7) + b] = stamp;
-                } else {
-                    s.setVisitedBits(w, bits & ((1u << n) - 1u), stamp);
-                    for (std::uint32_t b = 0; b < n; ++b)
-                        if ((bits >> b) & 1u) visitedAt[k0 + std::uint32_t(x0 & ~7) + b] = stamp;
-                }
+            case 3: { // V by bricks (the walks) and by voxels (the per-voxel traversals)
+                const std::int32_t y = std::int32_t(row % 5), z = std::int32_t(row / 5);
+                const IVec3 brick{x0 >> 3, y >> 3, z >> 3};
+                std::uint64_t words[8];
+                for (std::uint64_t& w : words) w = rng() & rng(); // about a quarter of the bits
+                s.setBrickVisited(brick, words, stamp);
+                for (int bz = 0; bz < 8; ++bz)
+                    for (int by = 0; by < 8; ++by)
+                        for (int bx = 0; bx < 8; ++bx) {
+                            const IVec3 v = brick * 8 + IVec3{bx, by, bz};
+                            if (v.x < resX && v.y < 5 && v.z < 3 && ((words[bz] >> (bx + 8 * by)) & 1) != 0)
+                                visitedAt[grid.linearIndex(v)] = stamp;
+                        }
                 s.setVisited(k0 + std::uint32_t(x1), stamp), visitedAt[k0 + std::uint32_t(x1)] = stamp;
                 break;
             }
@@ -170,8 +173,13 @@ TEST_CASE("storage: brick-row words of O, V and U agree with the voxels, and the
                 CHECK(((s.opaqueBits(s.rowWord(row, x)) & bit) != 0) == (opaque[k] > 0));
                 CHECK(s.used(k, stamp) == (usedAt[k] == stamp));
                 CHECK(((s.usedBits(s.rowWord(row, x), stamp) & bit) != 0) == (usedAt[k] == stamp));
-                CHECK(s.visited(k, stamp) == (visitedAt[k] == stamp));
             }
+            // V over the whole grid (a brick's write reaches other rows).
+            for (VoxelKey k = 0; k < VoxelKey(grid.voxelCount()); ++k)
+                if (s.visited(k, stamp) != (visitedAt[k] == stamp)) {
+                    INFO("step " << step << " voxel " << k << " visited " << s.visited(k, stamp));
+                    REQUIRE(false);
+                }
             // The helpers against a scan.
             bool all = true;
             for (std::int32_t x = x0; x <= x1; ++x) all = all && opaque[k0 + std::uint32_t(x)] > 0;
@@ -188,6 +196,80 @@ TEST_CASE("storage: brick-row words of O, V and U agree with the voxels, and the
                     CHECK(rhi == hi);
                 }
             }
+        }
+    }
+}
+
+TEST_CASE("storage: V's bricks in 2D agree with the voxels, across stamps and a reset", "[storage]") {
+    // Grids whose edges cut bricks (bits past the edge are ignored) and one brick wide or tall.
+    for (const IVec2 res : {IVec2{8, 8}, IVec2{13, 21}, IVec2{1, 30}, IVec2{40, 3}}) {
+        const std::uint64_t seed = 131 + std::uint64_t(res.x * 100 + res.y);
+        INFO("seed " << seed << ", grid " << res.x << "x" << res.y);
+        std::mt19937_64 rng(seed);
+        const GridGeometry2 grid({0, 0}, 1.0, res);
+        DenseStorage<2> s(grid);
+        std::vector<std::uint32_t> visitedAt(grid.voxelCount(), 0);
+        std::uint32_t stamp = 1;
+        for (int step = 0; step < 3000; ++step) {
+            const IVec2 brick{std::int32_t(rng() % std::uint64_t((res.x + 7) / 8)), std::int32_t(rng() % std::uint64_t((res.y + 7) / 8))};
+            switch (rng() % 4) {
+            case 0: {
+                const std::uint64_t word = rng() & rng();
+                s.setBrickVisited(brick, &word, stamp);
+                for (int b = 0; b < 64; ++b) {
+                    const IVec2 v = brick * 8 + IVec2{b & 7, b >> 3};
+                    if (v.x < res.x && v.y < res.y && ((word >> b) & 1) != 0) visitedAt[grid.linearIndex(v)] = stamp;
+                }
+                break;
+            }
+            case 1: {
+                const IVec2 v{std::int32_t(rng() % std::uint64_t(res.x)), std::int32_t(rng() % std::uint64_t(res.y))};
+                s.setVisited(grid.linearIndex(v), stamp);
+                visitedAt[grid.linearIndex(v)] = stamp;
+                break;
+            }
+            case 2: stamp = stamp % DenseStorage<2>::kMaxStamp + 1; break;
+            default:
+                if (rng() % 50 == 0) { // the wrap: every stamp back to never
+                    s.resetStamps();
+                    std::fill(visitedAt.begin(), visitedAt.end(), 0);
+                }
+            }
+            for (VoxelKey k = 0; k < VoxelKey(grid.voxelCount()); ++k) {
+                INFO("step " << step << " voxel " << k);
+                REQUIRE(s.visited(k, stamp) == (visitedAt[k] == stamp));
+            }
+        }
+    }
+}
+
+TEST_CASE("storage: V's bricks find the voxel of any key, up to grids of nearly 2^32 voxels", "[storage]") {
+    // The key's coordinates come from multiplications (StampedBrickBits' fastDivide), exact for every
+    // 32-bit key: checked at random keys, half of them a row's or a slice's first voxel (where a quotient
+    // one too small shows), in grids whose keys reach past 2^31, against coordinates from divisions.
+    // (Zero pages: only the bricks written cost memory.)
+    std::mt19937_64 rng(151);
+    for (const IVec3 res : {IVec3{1021, 1019, 4127 - 127}, IVec3{1, 65535, 65535}, IVec3{65535, 1, 3}, IVec3{3, 7, 11}}) {
+        INFO("seed 151, grid " << res.x << "x" << res.y << "x" << res.z);
+        StampedBrickBits<3> v(res);
+        const std::uint64_t count = std::uint64_t(res.x) * std::uint64_t(res.y) * std::uint64_t(res.z);
+        REQUIRE(count <= 0xFFFFFFFFull);
+        for (int i = 0; i < 2000; ++i) {
+            std::uint32_t k = i < 4 ? std::uint32_t(count - 1 - std::uint64_t(i) % count) : std::uint32_t(rng() % count);
+            if (i % 4 == 1) k -= k % std::uint32_t(res.x);                               // a row's first voxel
+            if (i % 4 == 3) k -= k % (std::uint32_t(res.x) * std::uint32_t(res.y)); // a slice's
+            const std::uint32_t stamp = std::uint32_t(i % 7 + 1);
+            v.setVoxel(k, stamp);
+            CHECK(v.voxel(k, stamp));
+            CHECK_FALSE(v.voxel(k, stamp % 7 + 1));
+            // Its brick holds it at the bit the walks use: bit x + 8 y of slice z, relative to the brick.
+            const std::uint32_t x = k % std::uint32_t(res.x), y = (k / std::uint32_t(res.x)) % std::uint32_t(res.y),
+                                z = k / std::uint32_t(res.x) / std::uint32_t(res.y);
+            std::uint64_t words[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+            words[z & 7] = std::uint64_t(1) << ((x & 7) + 8 * (y & 7));
+            const std::uint32_t next = stamp % 7 + 1;
+            v.orBrick(IVec3{std::int32_t(x >> 3), std::int32_t(y >> 3), std::int32_t(z >> 3)}, words, next);
+            CHECK(v.voxel(k, next));
         }
     }
 }

@@ -22,9 +22,10 @@ public:
     static constexpr std::uint32_t kMaxStamp = DenseStorage<D>::kMaxStamp;
     /// Marks a storage whose scene part is shared: traversals leave the scene's brick pyramid alone.
     static constexpr bool kSharedScene = true;
+    using Brick = IVec<D>;
 
     ViewStorage(const DenseStorage<D>& scene, std::size_t voxels)
-        : m_scene(&scene), m_stamps(voxels), m_visited(scene.rowLayout().size()), m_used(scene.rowLayout().size()) {}
+        : m_scene(&scene), m_stamps(voxels), m_visited(scene.resolution()), m_used(scene.rowLayout().size()) {}
 
     const BrickPyramid<D>& bricks() const { return m_scene->bricks(); }
     bool opaque(VoxelKey k) const { return m_scene->opaque(k); }
@@ -44,10 +45,9 @@ public:
     void setUsed(VoxelKey k, std::uint32_t stamp) { m_used.setVoxel(m_scene->rowLayout(), k, stamp); }
     std::uint32_t usedBits(std::size_t w, std::uint32_t stamp) const { return m_used.get(w, stamp); }
     void setUsedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_used.set(w, bits, stamp); }
-    bool visited(VoxelKey k, std::uint32_t stamp) const { return m_visited.voxel(m_scene->rowLayout(), k, stamp); }
-    void setVisited(VoxelKey k, std::uint32_t stamp) { m_visited.setVoxel(m_scene->rowLayout(), k, stamp); }
-    void setVisitedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_visited.set(w, bits, stamp); }
-    void setVisitedWord(std::size_t w, std::uint32_t stamp) { m_visited.setAll(w, stamp); }
+    bool visited(VoxelKey k, std::uint32_t stamp) const { return m_visited.voxel(k, stamp); }
+    void setVisited(VoxelKey k, std::uint32_t stamp) { m_visited.setVoxel(k, stamp); }
+    void setBrickVisited(const Brick& brick, const std::uint64_t* words, std::uint32_t stamp) { m_visited.orBrick(brick, words, stamp); }
     void resetStamps() {
         for (Stamps& s : m_stamps) s = Stamps{};
         m_visited.reset();
@@ -66,8 +66,8 @@ private:
     };
     const DenseStorage<D>* m_scene;
     std::vector<Stamps> m_stamps;
-    StampedRowBits m_visited; // V, as the scene's brick-row words
-    StampedRowBits m_used;    // U, likewise
+    StampedBrickBits<D> m_visited; // V, per brick
+    StampedRowBits m_used;         // U, as the scene's brick-row words
 };
 
 static_assert(VoxelStorage<ViewStorage<2>>);

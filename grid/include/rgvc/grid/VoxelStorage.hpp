@@ -21,11 +21,11 @@
 //   Os             O is maintained incrementally (objects add and remove their own inner voxels) and never
 //                  rebuilt, so the paper's static occluder matrix is O's static part: a static object is
 //                  counted in once and stays; there is nothing to copy from Os into O each frame.
-//   V  visited     the voxels the traversal visited this frame (for stats, pictures and voxelState), as
-//                  one stamped 8-bit word per brick row (RowWords below).
+//   V  visited     the voxels the traversal visited this frame (for pictures and voxelState), as one
+//                  stamped bit set per brick (StampedBrickBits.hpp): a brick walk writes a brick's at once.
 //
 // Brick rows. The brick walks (BrickTraversal2D/3D.hpp) read and write whole rows of a brick, the 8 voxels
-// x = 8 bx .. 8 bx + 7 of one grid row, as bit words: O's flags (opaqueBits), V (setVisitedBits) and U.
+// x = 8 bx .. 8 bx + 7 of one grid row, as bit words: O's flags (opaqueBits) and U.
 // Word w = rowIndex * ceil(res.x / 8) + bx, where rowIndex is the row's key / res.x (y in 2D, y + res.y z in
 // 3D), and bit i is voxel x = 8 bx + i. Why words: reading a brick voxel by voxel for O and writing V voxel
 // by voxel was a third of the walk (rgvc_bench_classes' game world: 512 reads and writes per brick, for a
@@ -35,6 +35,7 @@
 
 #include "rgvc/grid/BrickPyramid.hpp"
 #include "rgvc/grid/GridGeometry.hpp"
+#include "rgvc/grid/StampedBrickBits.hpp"
 #include "rgvc/grid/ZeroedArray.hpp"
 
 #include <algorithm>
@@ -62,8 +63,7 @@ concept VoxelStorage = requires(S s, const S cs, VoxelKey k, ObjectSlot o, std::
     s.setVisited(k, stamp);
     { cs.rowWord(std::uint32_t{}, std::int32_t{}) } -> std::convertible_to<std::size_t>;
     { cs.opaqueBits(std::size_t{}) } -> std::convertible_to<std::uint32_t>;
-    s.setVisitedBits(std::size_t{}, std::uint32_t{}, stamp);
-    s.setVisitedWord(std::size_t{}, stamp);
+    s.setBrickVisited(typename S::Brick{}, static_cast<const std::uint64_t*>(nullptr), stamp);
     { cs.usedBits(std::size_t{}, stamp) } -> std::convertible_to<std::uint32_t>;
     s.setUsedBits(std::size_t{}, std::uint32_t{}, stamp);
     { cs.hasIds(k) } -> std::convertible_to<bool>;
@@ -224,11 +224,12 @@ private:
 template <int D> class DenseStorage {
 public:
     static constexpr std::uint32_t kMaxStamp = 0xFFFF;
+    using Brick = IVec<D>; // a brick of 8^D voxels, by its coordinates (setBrickVisited)
 
     explicit DenseStorage(const GridGeometry<D>& grid)
         : m_cells(grid.voxelCount()), m_opaque(grid.voxelCount()),
           m_layout(grid.resolution().x, grid.voxelCount() / std::size_t(grid.resolution().x)),
-          m_opaqueBits(m_layout.size()), m_visited(m_layout.size()), m_used(m_layout.size()), m_bricks(grid.resolution()), m_res(grid.resolution()) {}
+          m_opaqueBits(m_layout.size()), m_visited(grid.resolution()), m_used(m_layout.size()), m_bricks(grid.resolution()), m_res(grid.resolution()) {}
 
     /// For users that read every voxel of a view, written or not (the paper's per-voxel traversals): the
     /// per-voxel arrays on huge pages (ZeroedArray::adviseHugePages says why). A hint; results never change.
@@ -305,12 +306,14 @@ public:
     void setUsed(VoxelKey k, std::uint32_t stamp) { m_used.setVoxel(m_layout, k, stamp); }
     std::uint32_t usedBits(std::size_t w, std::uint32_t stamp) const { return m_used.get(w, stamp); }
     void setUsedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_used.set(w, bits, stamp); }
-    bool visited(VoxelKey k, std::uint32_t stamp) const { return m_visited.voxel(m_layout, k, stamp); }
-    void setVisited(VoxelKey k, std::uint32_t stamp) { m_visited.setVoxel(m_layout, k, stamp); }
-    /// Marks word w's voxels of `bits` visited in frame stamp (the others keep their marks).
-    void setVisitedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_visited.set(w, bits, stamp); }
-    /// Marks all 8 voxels of word w visited in frame stamp (setVisitedBits with every bit, in one store).
-    void setVisitedWord(std::size_t w, std::uint32_t stamp) { m_visited.setAll(w, stamp); }
+    bool visited(VoxelKey k, std::uint32_t stamp) const { return m_visited.voxel(k, stamp); }
+    void setVisited(VoxelKey k, std::uint32_t stamp) { m_visited.setVoxel(k, stamp); }
+    /// Marks the voxels of brick `brick` (brick coordinates: its first voxel is 8 brick) given by `words`
+    /// visited in frame stamp, the others keeping their marks. words: 8 slice words in 3D (bit x + 8 y of
+    /// word z, relative to the brick), one in 2D (bit x + 8 y).
+    void setBrickVisited(const Brick& brick, const std::uint64_t* words, std::uint32_t stamp) { m_visited.orBrick(brick, words, stamp); }
+    /// [Voxels] the grid's resolution.
+    const IVec<D>& resolution() const { return m_res; }
 
     bool hasIds(VoxelKey k) const { return (head(k) & ~kOpaqueBit) != kNoList; }
     template <class Fn> void forEachId(VoxelKey k, Fn&& fn) const {
@@ -411,7 +414,7 @@ private:
     ZeroedArray<std::uint32_t> m_opaque; // O counts
     BrickRowLayout m_layout;
     ZeroedArray<std::uint8_t> m_opaqueBits; // O's flags as brick-row words
-    StampedRowBits m_visited;               // V
+    StampedBrickBits<D> m_visited;          // V
     StampedRowBits m_used;                  // U
     BrickPyramid<D> m_bricks;
     IVec<D> m_res;

@@ -119,11 +119,10 @@ private:
         // lies behind it in the same brick.
         bool anyIds = false;
         std::uint8_t inView[8] = {0, 0, 0, 0, 0, 0, 0, 0}, ids[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-        std::size_t words[8];
         const std::uint32_t all = (1u << (hi.x - lo.x)) - 1u;
         for (std::int32_t y = lo.y; y < hi.y; ++y) {
             const VoxelKey row = grid.linearIndex(IVec2{0, y});
-            const std::size_t word = words[y - lo.y] = storage.rowWord(std::uint32_t(y), lo.x);
+            const std::size_t word = storage.rowWord(std::uint32_t(y), lo.x);
             std::uint32_t view = whole ? all : 0, hold = 0;
             if (!whole && convex) {
                 // A convex view (the wedge and the far disc are convex; touchesVoxel is their two box
@@ -154,11 +153,13 @@ private:
             ids[y - lo.y] = std::uint8_t(hold);
             anyIds = anyIds || hold != 0;
         }
-        // Pass 2: visit (V's word at once, then the ids' voxels).
+        // Pass 2: visit (V's bits for the brick at once, then the ids' voxels).
+        std::uint64_t visible = 0;
+        for (std::int32_t y = lo.y; y < hi.y; ++y) visible |= std::uint64_t(inView[y - lo.y]) << (8 * (y - lo.y));
+        storage.setBrickVisited(brick, &visible, stamp);
         for (std::int32_t y = lo.y; y < hi.y; ++y) {
             const VoxelKey row = grid.linearIndex(IVec2{0, y});
             const std::uint32_t view = inView[y - lo.y];
-            storage.setVisitedBits(words[y - lo.y], view, stamp);
             st.voxelsVisited += std::uint64_t(std::popcount(view));
             for (std::uint32_t bits = view & ids[y - lo.y]; bits != 0; bits &= bits - 1) {
                 const std::int32_t x = lo.x + std::countr_zero(bits);

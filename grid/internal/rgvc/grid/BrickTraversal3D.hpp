@@ -237,12 +237,6 @@ private:
                     r.u1 = clipU1[c];
                     if (r.u0 > r.u1) r.u0 = 1, r.u1 = 0;
                 }
-                if (onePass && r.u0 <= r.u1) {
-                    const std::uint32_t inView = ((2u << (r.u1 - r.u0)) - 1u) << (r.u0 - lo.x);
-                    st.voxelsVisited += std::uint64_t(r.u1 - r.u0 + 1);
-                    storage.setVisitedBits(r.word, inView, stamp);
-                    visible[z - lo.z] |= std::uint64_t(inView) << (8 * (y - lo.y));
-                }
                 if (image == nullptr || r.u0 > r.u1) continue;
                 // O's word (lo.x is a multiple of 8: bit x - lo.x), the span's opaque voxels only.
                 const std::uint32_t span = ((2u << (r.u1 - r.u0)) - 1u) << (r.u0 - lo.x);
@@ -254,7 +248,7 @@ private:
         // The caller's list of the brick's objects, after the fused boxes as the ids would be.
         if constexpr (kLists) anyIds = onBrickIds(brick, inCone);
         // Pass 2: visit the spans; then the brick's TBVs, all at once when the caller can.
-        for (int i = 0; !onePass && i < rows; ++i) {
+        for (int i = 0; i < rows; ++i) {
             const RowInfo& r = m_rows[std::size_t(i)];
             std::uint32_t inView = 0; // bit x - lo.x: visited
             if (!hasFar) {
@@ -262,7 +256,6 @@ private:
                 if (r.u0 > r.u1) continue;
                 st.voxelsVisited += std::uint64_t(r.u1 - r.u0 + 1);
                 inView = ((2u << (r.u1 - r.u0)) - 1u) << (r.u0 - lo.x);
-                storage.setVisitedBits(r.word, inView, stamp);
                 for (std::uint32_t bits = r.ids & inView; bits != 0; bits &= bits - 1) {
                     const std::int32_t x = lo.x + std::countr_zero(bits);
                     onVoxel(VoxelKey(r.key + std::uint32_t(x)), IVec3{x, r.y, r.z});
@@ -273,12 +266,12 @@ private:
                     if (!frustum.withinFar(Vec3(v), Vec3(v) + 1.0)) continue;
                     ++st.voxelsVisited;
                     inView |= 1u << (x - lo.x);
-                    storage.setVisitedBits(r.word, 1u << (x - lo.x), stamp);
                     if (((r.ids >> (x - lo.x)) & 1) != 0) onVoxel(VoxelKey(r.key + std::uint32_t(x)), v);
                 }
             }
             visible[r.z - lo.z] |= std::uint64_t(inView) << (8 * (r.y - lo.y));
         }
+        storage.setBrickVisited(brick, visible, stamp);
         if (tbvHere) onTbvs(brick, visible);
         clearIfEmpty(storage, brick, anyIds, tbvHere, st);
     }
@@ -295,7 +288,7 @@ private:
                            const std::int32_t* clipU0, const std::int32_t* clipU1, OnTbvs& onTbvs, InsideObject& insideObject,
                            OnBrickIds& onBrickIds, BrickTraversalStats3D& st) {
         std::size_t words[64];
-        const int rows = rowWords(grid, storage, lo, hi, words);
+        rowWords(grid, storage, lo, hi, words);
         std::uint32_t inView[64]; // per row (z major): bit x - lo.x, the span's voxels
         std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0};
         std::uint64_t visited = 0;
@@ -309,8 +302,7 @@ private:
                 visible[z - lo.z] |= std::uint64_t(m) << (8 * (y - lo.y));
             }
         st.voxelsVisited += visited;
-        for (int i = 0; i < rows; ++i)
-            if (inView[i] != 0) storage.setVisitedBits(words[i], inView[i], stamp);
+        storage.setBrickVisited(brick, visible, stamp);
         if (image != nullptr)
             drawOpaqueRows(grid, storage, frustum, *image, lo, hi, words, [&](int i) { return inView[i]; }, stamp, insideObject, st);
         const bool anyIds = onBrickIds(brick, false);
@@ -333,19 +325,13 @@ private:
         if (image != nullptr)
             drawOpaqueRows(grid, storage, frustum, *image, lo, hi, words, [&](int) { return full; }, stamp, insideObject, st);
         const bool anyIds = onBrickIds(brick, true);
-        // (A brick's rows are whole words but at the grid's last brick along x: one store each, no read.)
-        if (full == 0xFFu)
-            for (int i = 0; i < rows; ++i) storage.setVisitedWord(words[i], stamp);
-        else
-            for (int i = 0; i < rows; ++i) storage.setVisitedBits(words[i], full, stamp);
         st.voxelsVisited += std::uint64_t(rows) * std::uint64_t(hi.x - lo.x);
-        if (tbvHere) {
-            std::uint64_t slice = 0; // `full` on each of the brick's rows along y
-            for (std::int32_t y = lo.y; y < hi.y; ++y) slice |= std::uint64_t(full) << (8 * (y - lo.y));
-            std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-            for (std::int32_t z = lo.z; z < hi.z; ++z) visible[z - lo.z] = slice;
-            onTbvs(brick, visible);
-        }
+        std::uint64_t slice = 0; // `full` on each of the brick's rows along y
+        for (std::int32_t y = lo.y; y < hi.y; ++y) slice |= std::uint64_t(full) << (8 * (y - lo.y));
+        std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+        for (std::int32_t z = lo.z; z < hi.z; ++z) visible[z - lo.z] = slice;
+        storage.setBrickVisited(brick, visible, stamp);
+        if (tbvHere) onTbvs(brick, visible);
         clearIfEmpty(storage, brick, anyIds, tbvHere, st);
     }
 
