@@ -117,7 +117,7 @@ TEST_CASE("storage: O flags, I lists and stamps share a cell without disturbing 
     }
 }
 
-TEST_CASE("storage: brick-row words of O and U and V's bricks agree with the voxels, and the row helpers with a voxel-by-voxel scan",
+TEST_CASE("storage: brick-row words of O, and U's and V's bricks, agree with the voxels, and the row helpers with a voxel-by-voxel scan",
           "[storage]") {
     // Widths a multiple of 8 and not (the last word of a row is partial, or the next word is the next row's).
     for (const std::int32_t resX : {8, 13, 24, 37}) {
@@ -143,10 +143,15 @@ TEST_CASE("storage: brick-row words of O and U and V's bricks agree with the vox
                 for (std::int32_t x = x0; x <= x1; ++x)
                     if (opaque[k0 + std::uint32_t(x)] > 0) s.addOpaque(k0 + std::uint32_t(x), -1), --opaque[k0 + std::uint32_t(x)];
                 break;
-            case 2:
-                brick_rows::markUsed(s, row, x0, x1, stamp);
-                for (std::int32_t x = x0; x <= x1; ++x) usedAt[k0 + std::uint32_t(x)] = stamp;
+            case 2: { // a fused box marked used: x0..x1 of rows y..y1 and slices z..z1 (its bricks at once)
+                const std::int32_t y = std::int32_t(row % 5), z = std::int32_t(row / 5);
+                const std::int32_t y1 = y + std::int32_t(rng() % std::uint64_t(5 - y)), z1 = z + std::int32_t(rng() % std::uint64_t(3 - z));
+                s.markUsedBox(IVec3{x0, y, z}, IVec3{x1, y1, z1}, stamp);
+                for (std::int32_t bz = z; bz <= z1; ++bz)
+                    for (std::int32_t by = y; by <= y1; ++by)
+                        for (std::int32_t x = x0; x <= x1; ++x) usedAt[grid.linearIndex(IVec3{x, by, bz})] = stamp;
                 break;
+            }
             case 3: { // V by bricks (the walks) and by voxels (the per-voxel traversals)
                 const std::int32_t y = std::int32_t(row % 5), z = std::int32_t(row / 5);
                 const IVec3 brick{x0 >> 3, y >> 3, z >> 3};
@@ -172,12 +177,12 @@ TEST_CASE("storage: brick-row words of O and U and V's bricks agree with the vox
                 const std::uint32_t bit = 1u << (x & 7);
                 CHECK(((s.opaqueBits(s.rowWord(row, x)) & bit) != 0) == (opaque[k] > 0));
                 CHECK(s.used(k, stamp) == (usedAt[k] == stamp));
-                CHECK(((s.usedBits(s.rowWord(row, x), stamp) & bit) != 0) == (usedAt[k] == stamp));
+                CHECK(((s.usedBits(IVec3{x & ~7, std::int32_t(row % 5), std::int32_t(row / 5)}, stamp) & bit) != 0) == (usedAt[k] == stamp));
             }
-            // V over the whole grid (a brick's write reaches other rows).
+            // V and U over the whole grid (a brick's or a box's write reaches other rows).
             for (VoxelKey k = 0; k < VoxelKey(grid.voxelCount()); ++k)
-                if (s.visited(k, stamp) != (visitedAt[k] == stamp)) {
-                    INFO("step " << step << " voxel " << k << " visited " << s.visited(k, stamp));
+                if (s.visited(k, stamp) != (visitedAt[k] == stamp) || s.used(k, stamp) != (usedAt[k] == stamp)) {
+                    INFO("step " << step << " voxel " << k << " visited " << s.visited(k, stamp) << " used " << s.used(k, stamp));
                     REQUIRE(false);
                 }
             // The helpers against a scan.
@@ -200,7 +205,7 @@ TEST_CASE("storage: brick-row words of O and U and V's bricks agree with the vox
     }
 }
 
-TEST_CASE("storage: V's bricks in 2D agree with the voxels, across stamps and a reset", "[storage]") {
+TEST_CASE("storage: V's and U's bricks in 2D agree with the voxels, across stamps and a reset", "[storage]") {
     // Grids whose edges cut bricks (bits past the edge are ignored) and one brick wide or tall.
     for (const IVec2 res : {IVec2{8, 8}, IVec2{13, 21}, IVec2{1, 30}, IVec2{40, 3}}) {
         const std::uint64_t seed = 131 + std::uint64_t(res.x * 100 + res.y);
@@ -208,11 +213,22 @@ TEST_CASE("storage: V's bricks in 2D agree with the voxels, across stamps and a 
         std::mt19937_64 rng(seed);
         const GridGeometry2 grid({0, 0}, 1.0, res);
         DenseStorage<2> s(grid);
-        std::vector<std::uint32_t> visitedAt(grid.voxelCount(), 0);
+        std::vector<std::uint32_t> visitedAt(grid.voxelCount(), 0), usedAt(grid.voxelCount(), 0);
         std::uint32_t stamp = 1;
         for (int step = 0; step < 3000; ++step) {
             const IVec2 brick{std::int32_t(rng() % std::uint64_t((res.x + 7) / 8)), std::int32_t(rng() % std::uint64_t((res.y + 7) / 8))};
-            switch (rng() % 4) {
+            switch (rng() % 5) {
+            case 4: { // U: a fused box marked used (any size, across bricks)
+                IVec2 lo, hi;
+                for (int a = 0; a < 2; ++a) {
+                    lo[a] = std::int32_t(rng() % std::uint64_t(res[a]));
+                    hi[a] = lo[a] + std::int32_t(rng() % std::uint64_t(res[a] - lo[a]));
+                }
+                s.markUsedBox(lo, hi, stamp);
+                for (std::int32_t y = lo.y; y <= hi.y; ++y)
+                    for (std::int32_t x = lo.x; x <= hi.x; ++x) usedAt[grid.linearIndex(IVec2{x, y})] = stamp;
+                break;
+            }
             case 0: {
                 const std::uint64_t word = rng() & rng();
                 s.setBrickVisited(brick, &word, stamp);
@@ -233,11 +249,15 @@ TEST_CASE("storage: V's bricks in 2D agree with the voxels, across stamps and a 
                 if (rng() % 50 == 0) { // the wrap: every stamp back to never
                     s.resetStamps();
                     std::fill(visitedAt.begin(), visitedAt.end(), 0);
+                    std::fill(usedAt.begin(), usedAt.end(), 0);
                 }
             }
             for (VoxelKey k = 0; k < VoxelKey(grid.voxelCount()); ++k) {
                 INFO("step " << step << " voxel " << k);
                 REQUIRE(s.visited(k, stamp) == (visitedAt[k] == stamp));
+                REQUIRE(s.used(k, stamp) == (usedAt[k] == stamp));
+                const std::int32_t x = std::int32_t(k % VoxelKey(res.x)), y = std::int32_t(k / VoxelKey(res.x));
+                REQUIRE(((s.usedBits(IVec2{x & ~7, y}, stamp) >> (x & 7)) & 1u) == (usedAt[k] == stamp ? 1u : 0u));
             }
         }
     }

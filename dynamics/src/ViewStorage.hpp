@@ -25,7 +25,7 @@ public:
     using Brick = IVec<D>;
 
     ViewStorage(const DenseStorage<D>& scene, std::size_t voxels)
-        : m_scene(&scene), m_stamps(voxels), m_visited(scene.resolution()), m_used(scene.rowLayout().size()) {}
+        : m_scene(&scene), m_stamps(voxels), m_visited(scene.resolution()), m_used(scene.resolution()) {}
 
     const BrickPyramid<D>& bricks() const { return m_scene->bricks(); }
     bool opaque(VoxelKey k) const { return m_scene->opaque(k); }
@@ -41,10 +41,10 @@ public:
 
     bool occluded(VoxelKey k, std::uint32_t stamp) const { return m_stamps[k].occluded == stamp; }
     void setOccluded(VoxelKey k, std::uint32_t stamp) { m_stamps[k].occluded = std::uint16_t(stamp); }
-    bool used(VoxelKey k, std::uint32_t stamp) const { return m_used.voxel(m_scene->rowLayout(), k, stamp); }
-    void setUsed(VoxelKey k, std::uint32_t stamp) { m_used.setVoxel(m_scene->rowLayout(), k, stamp); }
-    std::uint32_t usedBits(std::size_t w, std::uint32_t stamp) const { return m_used.get(w, stamp); }
-    void setUsedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_used.set(w, bits, stamp); }
+    bool used(VoxelKey k, std::uint32_t stamp) const { return m_used.voxel(k, stamp); }
+    void setUsed(VoxelKey k, std::uint32_t stamp) { m_used.setVoxel(k, stamp); }
+    std::uint32_t usedBits(const Brick& v, std::uint32_t stamp) const { return m_used.rowBits(v, stamp); }
+    void markUsedBox(const Brick& lo, const Brick& hi, std::uint32_t stamp) { m_used.orBox(lo, hi, stamp); }
     bool visited(VoxelKey k, std::uint32_t stamp) const { return m_visited.voxel(k, stamp); }
     void setVisited(VoxelKey k, std::uint32_t stamp) { m_visited.setVoxel(k, stamp); }
     void setBrickVisited(const Brick& brick, const std::uint64_t* words, std::uint32_t stamp) { m_visited.orBrick(brick, words, stamp); }
@@ -67,7 +67,7 @@ private:
     const DenseStorage<D>* m_scene;
     std::vector<Stamps> m_stamps;
     StampedBrickBits<D> m_visited; // V, per brick
-    StampedRowBits m_used;         // U, as the scene's brick-row words
+    StampedBrickBits<D> m_used;    // U, likewise
 };
 
 static_assert(VoxelStorage<ViewStorage<2>>);

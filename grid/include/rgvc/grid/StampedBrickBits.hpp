@@ -4,6 +4,7 @@
 #include "rgvc/grid/Math.hpp"
 #include "rgvc/grid/ZeroedArray.hpp"
 
+#include <algorithm>
 #include <cstdint>
 
 namespace rgvc {
@@ -67,6 +68,49 @@ public:
             for (int i = 0; i < kWords; ++i) bits[i] = 0;
         bits[word] |= std::uint64_t(1) << bit;
         m_stamps[b] = std::uint16_t(stamp);
+    }
+    /// The 8 bits of the brick row through voxel v in frame `stamp` (bit i: voxel (v.x & ~7) + i of the row).
+    [[gnu::noinline]] std::uint32_t rowBits(const IVec<D>& v, std::uint32_t stamp) const {
+        const std::size_t b = brickIndex(v >> 3);
+        if (m_stamps[b] != stamp) return 0;
+        const std::size_t word = b * kWords + std::size_t(D == 3 ? (v[D - 1] & 7) : 0);
+        return std::uint32_t(m_bits[word] >> (8 * (v.y & 7))) & 0xFFu;
+    }
+    /// Adds the voxels of the box [lo, hi] (inclusive; in the grid) to the set of frame `stamp`: per brick
+    /// it meets, the box's part of a slice is one word (a byte per row it covers, the row's x mask in each),
+    /// ORed into the slices it covers (most boxes, the insides of small movers, meet one brick). Out of
+    /// line: once per fused box, and inlined into the 3D walk it tipped GCC into calling the culler's
+    /// vector push_backs out of line (+0.7 % instructions on the clusters).
+    [[gnu::noinline]] void orBox(const IVec<D>& lo, const IVec<D>& hi, std::uint32_t stamp) {
+        const IVec<D> b0 = lo >> 3, b1 = hi >> 3;
+        IVec<D> b = b0;
+        while (true) {
+            // The box's part along each axis in brick b: a..e (0..7).
+            IVec<D> a, e;
+            for (int k = 0; k < D; ++k) {
+                a[k] = std::max(lo[k] - 8 * b[k], 0);
+                e[k] = std::min(hi[k] - 8 * b[k], 7);
+            }
+            const std::uint64_t mx = ((2u << e.x) - 1u) & ~((1u << a.x) - 1u);
+            const std::uint64_t rows = (0x0101010101010101ULL >> (8 * (7 - (e.y - a.y)))) << (8 * a.y); // bit 8 y, y in a.y..e.y
+            const std::uint64_t slice = rows * mx; // mx in each of those bytes: no carries (mx < 256)
+            const std::size_t first = brickIndex(b);
+            std::uint64_t* bits = &m_bits[first * kWords];
+            if (m_stamps[first] != stamp) {
+                for (int i = 0; i < kWords; ++i) bits[i] = 0;
+                m_stamps[first] = std::uint16_t(stamp);
+            }
+            if constexpr (D == 3) {
+                for (std::int32_t z = a.z; z <= e.z; ++z) bits[z] |= slice;
+            } else {
+                bits[0] |= slice;
+            }
+            // The next brick, x fastest.
+            int k = 0;
+            while (k < D && b[k] == b1[k]) b[k] = b0[k], ++k;
+            if (k == D) break;
+            ++b[k];
+        }
     }
     /// Every stamp back to "never".
     void reset() { m_stamps.clear(); }

@@ -15,7 +15,7 @@
 //                  from one pool with a free list. After warm-up no insertion allocates. (The 3D brick
 //                  core keeps I at brick resolution instead, BrickObjects.hpp, and writes none here.)
 //   U  used        the voxels already part of an extended occluder this frame, so a wall of n opaque
-//                  voxels is extended once, not n times; stamped brick-row words, as V.
+//                  voxels is extended once, not n times; per brick, as V (a fused box marks its bricks).
 //   T  TBVs        not here: T is read only at visited voxels and written only when TBVs change; it is
 //                  counts and tile lists in 2D and a brick index in 3D, not a voxel matrix (TbvMatrix.hpp).
 //   Os             O is maintained incrementally (objects add and remove their own inner voxels) and never
@@ -25,7 +25,7 @@
 //                  stamped bit set per brick (StampedBrickBits.hpp): a brick walk writes a brick's at once.
 //
 // Brick rows. The brick walks (BrickTraversal2D/3D.hpp) read and write whole rows of a brick, the 8 voxels
-// x = 8 bx .. 8 bx + 7 of one grid row, as bit words: O's flags (opaqueBits) and U.
+// x = 8 bx .. 8 bx + 7 of one grid row, as bit words: O's flags (opaqueBits), and U's row bits (usedBits).
 // Word w = rowIndex * ceil(res.x / 8) + bx, where rowIndex is the row's key / res.x (y in 2D, y + res.y z in
 // 3D), and bit i is voxel x = 8 bx + i. Why words: reading a brick voxel by voxel for O and writing V voxel
 // by voxel was a third of the walk (rgvc_bench_classes' game world: 512 reads and writes per brick, for a
@@ -64,8 +64,8 @@ concept VoxelStorage = requires(S s, const S cs, VoxelKey k, ObjectSlot o, std::
     { cs.rowWord(std::uint32_t{}, std::int32_t{}) } -> std::convertible_to<std::size_t>;
     { cs.opaqueBits(std::size_t{}) } -> std::convertible_to<std::uint32_t>;
     s.setBrickVisited(typename S::Brick{}, static_cast<const std::uint64_t*>(nullptr), stamp);
-    { cs.usedBits(std::size_t{}, stamp) } -> std::convertible_to<std::uint32_t>;
-    s.setUsedBits(std::size_t{}, std::uint32_t{}, stamp);
+    { cs.usedBits(typename S::Brick{}, stamp) } -> std::convertible_to<std::uint32_t>;
+    s.markUsedBox(typename S::Brick{}, typename S::Brick{}, stamp);
     { cs.hasIds(k) } -> std::convertible_to<bool>;
     cs.forEachId(k, [](ObjectSlot) {});
     s.addId(k, o);
@@ -224,12 +224,12 @@ private:
 template <int D> class DenseStorage {
 public:
     static constexpr std::uint32_t kMaxStamp = 0xFFFF;
-    using Brick = IVec<D>; // a brick of 8^D voxels, by its coordinates (setBrickVisited)
+    using Brick = IVec<D>; // integer coordinates: of a brick of 8^D voxels (setBrickVisited) or of a voxel
 
     explicit DenseStorage(const GridGeometry<D>& grid)
         : m_cells(grid.voxelCount()), m_opaque(grid.voxelCount()),
           m_layout(grid.resolution().x, grid.voxelCount() / std::size_t(grid.resolution().x)),
-          m_opaqueBits(m_layout.size()), m_visited(grid.resolution()), m_used(m_layout.size()), m_bricks(grid.resolution()), m_res(grid.resolution()) {}
+          m_opaqueBits(m_layout.size()), m_visited(grid.resolution()), m_used(grid.resolution()), m_bricks(grid.resolution()), m_res(grid.resolution()) {}
 
     /// For users that read every voxel of a view, written or not (the paper's per-voxel traversals): the
     /// per-voxel arrays on huge pages (ZeroedArray::adviseHugePages says why). A hint; results never change.
@@ -302,10 +302,12 @@ public:
 
     bool occluded(VoxelKey k, std::uint32_t stamp) const { return m_cells[k].occluded == stamp; }
     void setOccluded(VoxelKey k, std::uint32_t stamp) { m_cells[k].occluded = std::uint16_t(stamp); }
-    bool used(VoxelKey k, std::uint32_t stamp) const { return m_used.voxel(m_layout, k, stamp); }
-    void setUsed(VoxelKey k, std::uint32_t stamp) { m_used.setVoxel(m_layout, k, stamp); }
-    std::uint32_t usedBits(std::size_t w, std::uint32_t stamp) const { return m_used.get(w, stamp); }
-    void setUsedBits(std::size_t w, std::uint32_t bits, std::uint32_t stamp) { m_used.set(w, bits, stamp); }
+    bool used(VoxelKey k, std::uint32_t stamp) const { return m_used.voxel(k, stamp); }
+    void setUsed(VoxelKey k, std::uint32_t stamp) { m_used.setVoxel(k, stamp); }
+    /// U's bits of the brick row through voxel v (bit i: voxel (v.x & ~7) + i) in frame stamp.
+    std::uint32_t usedBits(const Brick& v, std::uint32_t stamp) const { return m_used.rowBits(v, stamp); }
+    /// Marks the voxels of the box [lo, hi] (inclusive, in the grid) used in frame stamp.
+    void markUsedBox(const Brick& lo, const Brick& hi, std::uint32_t stamp) { m_used.orBox(lo, hi, stamp); }
     bool visited(VoxelKey k, std::uint32_t stamp) const { return m_visited.voxel(k, stamp); }
     void setVisited(VoxelKey k, std::uint32_t stamp) { m_visited.setVoxel(k, stamp); }
     /// Marks the voxels of brick `brick` (brick coordinates: its first voxel is 8 brick) given by `words`
@@ -415,7 +417,7 @@ private:
     BrickRowLayout m_layout;
     ZeroedArray<std::uint8_t> m_opaqueBits; // O's flags as brick-row words
     StampedBrickBits<D> m_visited;          // V
-    StampedRowBits m_used;                  // U
+    StampedBrickBits<D> m_used;             // U
     BrickPyramid<D> m_bricks;
     IVec<D> m_res;
     SlotBucketPool m_ids;

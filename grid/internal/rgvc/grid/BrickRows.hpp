@@ -1,8 +1,9 @@
 // Range operations on brick-row words (VoxelStorage.hpp, "Brick rows"): whether a run of voxels along x is
-// all opaque, and marking a run used, a word (8 voxels) at a time. Internal to the brick walks' occluder
-// fusion (BrickTraversal2D/3D.hpp), which grows boxes of opaque voxels up to 129 voxels on a side and marks
-// them used: voxel by voxel, that growth cost the volume of every box (a building of the game world of
-// rgvc_bench_classes is tens of thousands of voxels), word by word an eighth of it.
+// all opaque, a word (8 voxels) at a time. Internal to the brick walks' occluder fusion
+// (BrickTraversal2D/3D.hpp), which grows boxes of opaque voxels up to 129 voxels on a side: voxel by
+// voxel, that growth cost the volume of every box (a building of the game world of rgvc_bench_classes is
+// tens of thousands of voxels), word by word an eighth of it. (The boxes are marked used per brick:
+// DenseStorage::markUsedBox.)
 #pragma once
 
 #include "rgvc/grid/VoxelStorage.hpp"
@@ -79,18 +80,6 @@ template <VoxelStorage S> bool allOpaque(const S& s, std::uint32_t rowIndex, std
         return (s.opaqueBits(s.rowWord(rowIndex, x0)) & m) == m;
     }
     return forEachWord(s, rowIndex, x0, x1, [&](std::size_t w, std::uint32_t m) { return (s.opaqueBits(w) & m) == m; });
-}
-
-/// Marks voxels x0..x1 (inclusive) of row rowIndex used in frame stamp.
-template <VoxelStorage S> void markUsed(S& s, std::uint32_t rowIndex, std::int32_t x0, std::int32_t x1, std::uint32_t stamp) {
-    if ((x0 >> 3) == (x1 >> 3)) {
-        s.setUsedBits(s.rowWord(rowIndex, x0), ((2u << (x1 - x0)) - 1u) << (x0 & 7), stamp);
-        return;
-    }
-    forEachWord(s, rowIndex, x0, x1, [&](std::size_t w, std::uint32_t m) {
-        s.setUsedBits(w, m, stamp);
-        return true;
-    });
 }
 
 } // namespace rgvc::brick_rows

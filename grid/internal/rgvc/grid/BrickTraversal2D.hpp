@@ -144,7 +144,7 @@ private:
             // O's word (lo.x is a multiple of 8: bit x - lo.x), its voxels in view only.
             // (U read only where O is set, and again after each box: a box marks later voxels of the row used.)
             if (std::uint32_t bits = image != nullptr ? storage.opaqueBits(word) & view : 0u; bits != 0)
-                for (bits &= ~storage.usedBits(word, stamp); bits != 0; bits &= ~storage.usedBits(word, stamp)) {
+                for (bits &= ~storage.usedBits(IVec2{lo.x, y}, stamp); bits != 0; bits &= ~storage.usedBits(IVec2{lo.x, y}, stamp)) {
                     const std::int32_t x = lo.x + std::countr_zero(bits);
                     bits &= bits - 1;
                     drawFusedBox(grid, storage, wedge, *image, IVec2{x, y}, stamp, insideObject, st);
@@ -190,7 +190,7 @@ private:
         auto rowOpaque = [&](std::int32_t y) { return brick_rows::allOpaque(storage, std::uint32_t(y), lo.x, hi.x); };
         while (hi.y + 1 < res.y && hi.y - v.y < kMaxGrow && rowOpaque(hi.y + 1)) ++hi.y;
         while (lo.y > 0 && v.y - lo.y < kMaxGrow && rowOpaque(lo.y - 1)) --lo.y;
-        for (std::int32_t y = lo.y; y <= hi.y; ++y) brick_rows::markUsed(storage, std::uint32_t(y), lo.x, hi.x, stamp);
+        storage.markUsedBox(lo, hi, stamp);
         // A box inside one box object repeats that object, which the caller draws when it classifies it.
         if (insideObject(grid.linearIndex(v), lo, hi)) return;
         image.draw(Box<2>{Vec2(lo), Vec2(hi + 1)}, wedge.slack());

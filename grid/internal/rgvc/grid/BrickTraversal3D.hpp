@@ -243,7 +243,7 @@ private:
                 std::uint32_t bits = storage.opaqueBits(r.word) & span;
                 if (bits == 0) continue; // (most rows: U is read only where O is set, and again after each box,
                                          // which marks later voxels of the row used)
-                drawFusedBoxes(grid, storage, frustum, *image, r.word, bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
+                drawFusedBoxes(grid, storage, frustum, *image, bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
             }
         // The caller's list of the brick's objects, after the fused boxes as the ids would be.
         if constexpr (kLists) anyIds = onBrickIds(brick, inCone);
@@ -362,18 +362,18 @@ private:
         for (std::int32_t z = lo.z; z < hi.z; ++z)
             for (std::int32_t y = lo.y; y < hi.y; ++y, ++i) {
                 const std::uint32_t bits = storage.opaqueBits(words[i]) & mask(i);
-                if (bits != 0) drawFusedBoxes(grid, storage, frustum, image, words[i], bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
+                if (bits != 0) drawFusedBoxes(grid, storage, frustum, image, bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
             }
     }
 
-    /// The fused boxes started from a row's opaque voxels `bits` (bit x - first.x of brick-row word
-    /// `word`, whose first voxel is `first`) that no box drawn this frame has used yet. U is read again
-    /// after each box, which marks later voxels of the row used.
+    /// The fused boxes started from a brick row's opaque voxels `bits` (bit x - first.x; `first` is the
+    /// row's first voxel) that no box drawn this frame has used yet. U is read again after each box, which
+    /// marks later voxels of the row used.
     template <class InsideObject>
     void drawFusedBoxes(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D& image,
-                        std::size_t word, std::uint32_t bits, const IVec3& first, std::uint32_t stamp,
+                        std::uint32_t bits, const IVec3& first, std::uint32_t stamp,
                         InsideObject& insideObject, BrickTraversalStats3D& st) {
-        for (bits &= ~storage.usedBits(word, stamp); bits != 0; bits &= ~storage.usedBits(word, stamp)) {
+        for (bits &= ~storage.usedBits(first, stamp); bits != 0; bits &= ~storage.usedBits(first, stamp)) {
             const std::int32_t x = first.x + std::countr_zero(bits);
             bits &= bits - 1;
             drawFusedBox(grid, storage, frustum, image, IVec3{x, first.y, first.z}, stamp, insideObject, st);
@@ -423,8 +423,7 @@ private:
         };
         while (hi.z + 1 < res.z && hi.z - v.z < kMaxGrow && sliceOpaque(hi.z + 1)) ++hi.z;
         while (lo.z > 0 && v.z - lo.z < kMaxGrow && sliceOpaque(lo.z - 1)) --lo.z;
-        for (std::int32_t z = lo.z; z <= hi.z; ++z)
-            for (std::int32_t y = lo.y; y <= hi.y; ++y) brick_rows::markUsed(storage, rowOf(y, z), lo.x, hi.x, stamp);
+        storage.markUsedBox(lo, hi, stamp);
         // A box inside one box object (a wall, a building) repeats that object, which is drawn when the
         // brick's ids are classified (or is hidden, and then so is this box): the room's six walls and
         // the game world's buildings were drawn twice.
