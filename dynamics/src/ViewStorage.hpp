@@ -17,15 +17,14 @@
 
 namespace rgvc {
 
-template <int D> class ViewStorage {
+template <int D> class ViewStorage : public FrameMarks<D> {
 public:
     static constexpr std::uint32_t kMaxStamp = DenseStorage<D>::kMaxStamp;
     /// Marks a storage whose scene part is shared: traversals leave the scene's brick pyramid alone.
     static constexpr bool kSharedScene = true;
-    using Brick = IVec<D>;
 
     ViewStorage(const DenseStorage<D>& scene, std::size_t voxels)
-        : m_scene(&scene), m_stamps(voxels), m_visited(scene.resolution()), m_used(scene.resolution()) {}
+        : FrameMarks<D>(scene.resolution()), m_scene(&scene), m_stamps(voxels) {}
 
     const BrickPyramid<D>& bricks() const { return m_scene->bricks(); }
     bool opaque(VoxelKey k) const { return m_scene->opaque(k); }
@@ -41,17 +40,10 @@ public:
 
     bool occluded(VoxelKey k, std::uint32_t stamp) const { return m_stamps[k].occluded == stamp; }
     void setOccluded(VoxelKey k, std::uint32_t stamp) { m_stamps[k].occluded = std::uint16_t(stamp); }
-    bool used(VoxelKey k, std::uint32_t stamp) const { return m_used.voxel(k, stamp); }
-    void setUsed(VoxelKey k, std::uint32_t stamp) { m_used.setVoxel(k, stamp); }
-    std::uint32_t usedBits(const Brick& v, std::uint32_t stamp) const { return m_used.rowBits(v, stamp); }
-    void markUsedBox(const Brick& lo, const Brick& hi, std::uint32_t stamp) { m_used.orBox(lo, hi, stamp); }
-    bool visited(VoxelKey k, std::uint32_t stamp) const { return m_visited.voxel(k, stamp); }
-    void setVisited(VoxelKey k, std::uint32_t stamp) { m_visited.setVoxel(k, stamp); }
-    void setBrickVisited(const Brick& brick, const std::uint64_t* words, std::uint32_t stamp) { m_visited.orBrick(brick, words, stamp); }
+    // V and U, the view's own: FrameMarks.
     void resetStamps() {
         for (Stamps& s : m_stamps) s = Stamps{};
-        m_visited.reset();
-        m_used.reset();
+        this->resetMarks();
     }
 
     // The scene's O and I are read-only here; the concept names their writers, which a view pass never
@@ -66,8 +58,6 @@ private:
     };
     const DenseStorage<D>* m_scene;
     std::vector<Stamps> m_stamps;
-    StampedBrickBits<D> m_visited; // V, per brick
-    StampedBrickBits<D> m_used;    // U, likewise
 };
 
 static_assert(VoxelStorage<ViewStorage<2>>);

@@ -161,4 +161,46 @@ private:
     ZeroedArray<std::uint64_t> m_bits;   // kWords per brick
 };
 
+/// V and U (VoxelStorage.hpp's matrices) as the storage concept reads and writes them: the part that
+/// DenseStorage and the culler's per-view ViewStorage implement alike, so both derive from it.
+template <int D> class FrameMarks {
+public:
+    using Brick = IVec<D>; // integer coordinates: of a brick of 8^D voxels (setBrickVisited) or of a voxel
+
+    explicit FrameMarks(const IVec<D>& res) : m_visited(res), m_used(res) {}
+
+    /// Whether voxel k (the grid's linear index) was visited in frame stamp; marks it.
+    bool visited(std::uint32_t k, std::uint32_t stamp) const { return m_visited.voxel(k, stamp); }
+    void setVisited(std::uint32_t k, std::uint32_t stamp) { m_visited.setVoxel(k, stamp); }
+    /// Marks the voxels of brick `brick` (its first voxel is 8 brick) given by `words` visited in frame
+    /// stamp, the others keeping their marks. words: 8 slice words in 3D (bit x + 8 y of word z, relative
+    /// to the brick), one in 2D (bit x + 8 y).
+    void setBrickVisited(const Brick& brick, const std::uint64_t* words, std::uint32_t stamp) { m_visited.orBrick(brick, words, stamp); }
+    /// Whether voxel k is part of an occluder box drawn in frame stamp; marks it.
+    bool used(std::uint32_t k, std::uint32_t stamp) const { return m_used.voxel(k, stamp); }
+    void setUsed(std::uint32_t k, std::uint32_t stamp) { m_used.setVoxel(k, stamp); }
+    /// U's bits of the brick row through voxel v (bit i: voxel (v.x & ~7) + i) in frame stamp.
+    std::uint32_t usedBits(const Brick& v, std::uint32_t stamp) const { return m_used.rowBits(v, stamp); }
+    /// Marks the voxels of the box [lo, hi] (inclusive, in the grid) used in frame stamp.
+    void markUsedBox(const Brick& lo, const Brick& hi, std::uint32_t stamp) { m_used.orBox(lo, hi, stamp); }
+
+protected:
+    void resetMarks() {
+        m_visited.reset();
+        m_used.reset();
+    }
+    void adviseMarksHugePages() {
+        m_visited.adviseHugePages();
+        m_used.adviseHugePages();
+    }
+    void touchMarks() {
+        m_visited.touch();
+        m_used.touch();
+    }
+
+private:
+    StampedBrickBits<D> m_visited; // V
+    StampedBrickBits<D> m_used;    // U
+};
+
 } // namespace rgvc

@@ -86,49 +86,20 @@ template <int D> inline bool tbvTouches(const TbvRegion<D>& r, const IVec<D>& v)
     return tbvGap(r.centre, v) <= r.radius + kConservativeSlack;
 }
 
-/// Calls fn(y, x0, x1) for the runs of voxels [x0, x1] of row y that the disc's discretization covers
-/// (at most two), clipped to x in [0, res.x). Boundary: voxels touched by the circle (touched by the disc
-/// and not entirely inside its open interior); Filled: voxels touched by the disc.
-template <class Fn> void tbvRowRuns2D(const TbvRegion<2>& r, const IVec2& res, TbvDiscretization mode, std::int32_t y, Fn&& fn) {
-    const Vec2 c = r.centre;
-    const double outer = r.radius + kConservativeSlack; // touch test errs towards touching
-    const double inner = r.radius - kConservativeSlack; // "entirely inside" errs towards not
-    const double dyMin = std::max({double(y) - c.y, c.y - double(y + 1), 0.0});
-    if (dyMin > outer) return;
-    const double wOut = std::sqrt(outer * outer - dyMin * dyMin);
-    // Voxel x touches [c.x - w, c.x + w] iff x <= c.x + w and x + 1 >= c.x - w.
-    const std::int32_t t0 = std::max<std::int32_t>(0, std::int32_t(std::ceil(c.x - wOut)) - 1);
-    const std::int32_t t1 = std::min<std::int32_t>(res.x - 1, std::int32_t(std::floor(c.x + wOut)));
-    if (t0 > t1) return;
-    const double dyMax = std::max(std::abs(double(y) - c.y), std::abs(double(y + 1) - c.y));
-    if (mode == TbvDiscretization::Filled || !(inner > dyMax)) {
-        fn(y, t0, t1);
-        return;
-    }
-    // Entirely inside the open disc: every corner is, i.e. x > c.x - w and x + 1 < c.x + w.
-    const double wIn = std::sqrt(inner * inner - dyMax * dyMax);
-    const std::int32_t i0 = std::int32_t(std::floor(c.x - wIn)) + 1;
-    const std::int32_t i1 = std::int32_t(std::ceil(c.x + wIn)) - 2;
-    if (i0 > i1) {
-        fn(y, t0, t1);
-        return;
-    }
-    if (t0 <= i0 - 1) fn(y, t0, std::min(t1, i0 - 1));
-    if (i1 + 1 <= t1) fn(y, std::max(t0, i1 + 1), t1);
-}
-
 /// Calls fn(x0, x1) for at most two runs of voxels, clipped to x in [0, res.x), that together hold every
-/// run tbvRowRuns2D gives for the rows yA..yB: which tiles a band of rows meets, for two square roots
-/// instead of two per row (TbvMatrix<2>'s inserts; computing every row was a third of the 2D room's
-/// instructions).
-/// Why they hold the rows' runs. A row's runs are its outer span [t0, t1] (the voxels touching the disc)
-/// less its hole [i0, i1] (the voxels inside the open disc). Both are centred on c.x and shrink as the
+/// run of the disc's discretization in the rows yA..yB (yA <= yB): for one row (tbvRowRuns2D) exactly its
+/// runs, for a band of rows which tiles its rows meet, for two square roots instead of two per row
+/// (TbvMatrix<2>'s inserts; computing every row was a third of the 2D room's instructions).
+/// A row's runs: Boundary, the voxels touched by the circle (touched by the disc and not entirely inside
+/// its open interior), i.e. its outer span [t0, t1] (the voxels touching the disc) less its hole [i0, i1]
+/// (the voxels inside the open disc); Filled, the outer span.
+/// Why a band's runs hold its rows' runs. Both the span and the hole are centred on c.x and shrink as the
 /// row's distance from c.y grows, through monotone operations (products, sqrt, floor, ceil), so every
 /// row's span lies in the span of the band's nearest row and every row's hole holds the hole of its
 /// farthest row: each row's runs lie in the one less the other. The band's nearest and farthest
-/// distances below are the same floating expressions as those two rows' own (the nearest row's dyMin,
-/// the farthest row's dyMax: |t - c.y| is largest at the band's ends yA and yB + 1), so the bounds are the
-/// very values those rows compute.
+/// distances below (dyMin over [yA, yB + 1]; dyMax at its ends, where |t - c.y| is largest) are the same
+/// floating expressions as those two rows' own (a row is the band yA = yB), so the bounds are the very
+/// values those rows compute.
 /// How tight. The ring is the set of voxels touching the closed annulus between the radii (a voxel is
 /// connected, so it holds every distance between its nearest and farthest), and the closed voxels that
 /// a connected set touches are 4-connected (passing to a diagonal neighbour through a corner touches all
@@ -138,11 +109,12 @@ template <class Fn> void tbvRowRuns2D(const TbvRegion<2>& r, const IVec2& res, T
 template <class Fn> void tbvBandRuns2D(const TbvRegion<2>& r, const IVec2& res, TbvDiscretization mode, std::int32_t yA,
                                        std::int32_t yB, Fn&& fn) {
     const Vec2 c = r.centre;
-    const double outer = r.radius + kConservativeSlack;
-    const double inner = r.radius - kConservativeSlack;
+    const double outer = r.radius + kConservativeSlack; // touch test errs towards touching
+    const double inner = r.radius - kConservativeSlack; // "entirely inside" errs towards not
     const double dyMin = std::max({double(yA) - c.y, c.y - double(yB + 1), 0.0});
     if (dyMin > outer) return;
     const double wOut = std::sqrt(outer * outer - dyMin * dyMin);
+    // Voxel x touches [c.x - w, c.x + w] iff x <= c.x + w and x + 1 >= c.x - w.
     const std::int32_t t0 = std::max<std::int32_t>(0, std::int32_t(std::ceil(c.x - wOut)) - 1);
     const std::int32_t t1 = std::min<std::int32_t>(res.x - 1, std::int32_t(std::floor(c.x + wOut)));
     if (t0 > t1) return;
@@ -151,6 +123,7 @@ template <class Fn> void tbvBandRuns2D(const TbvRegion<2>& r, const IVec2& res, 
         fn(t0, t1);
         return;
     }
+    // Entirely inside the open disc: every corner is, i.e. x > c.x - w and x + 1 < c.x + w.
     const double wIn = std::sqrt(inner * inner - dyMax * dyMax);
     const std::int32_t i0 = std::int32_t(std::floor(c.x - wIn)) + 1;
     const std::int32_t i1 = std::int32_t(std::ceil(c.x + wIn)) - 2;
@@ -160,6 +133,12 @@ template <class Fn> void tbvBandRuns2D(const TbvRegion<2>& r, const IVec2& res, 
     }
     if (t0 <= i0 - 1) fn(t0, std::min(t1, i0 - 1));
     if (i1 + 1 <= t1) fn(std::max(t0, i1 + 1), t1);
+}
+
+/// Calls fn(y, x0, x1) for the runs of voxels [x0, x1] of row y that the disc's discretization covers
+/// (at most two), clipped to x in [0, res.x) (tbvBandRuns2D says which).
+template <class Fn> void tbvRowRuns2D(const TbvRegion<2>& r, const IVec2& res, TbvDiscretization mode, std::int32_t y, Fn&& fn) {
+    tbvBandRuns2D(r, res, mode, y, y, [&](std::int32_t x0, std::int32_t x1) { fn(y, x0, x1); });
 }
 
 /// The rows a disc's discretization can reach, clipped to [0, res.y).

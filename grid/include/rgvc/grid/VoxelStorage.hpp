@@ -175,43 +175,6 @@ private:
     std::size_t m_rows = 0;
 };
 
-/// V and U as stamped bit words, one per brick row: a word's bits hold for the frame of its stamp only, so that
-/// starting a frame clears V in O(1), as the cells' H stamps do.
-class StampedRowBits {
-public:
-    explicit StampedRowBits(std::size_t words = 0) : m_words(words) {}  // all stamps 0: "never"
-    std::uint32_t get(std::size_t w, std::uint32_t stamp) const { return m_words[w].stamp == stamp ? m_words[w].bits : 0u; }
-    /// ORs bits (the low 8) into word w for frame stamp.
-    void set(std::size_t w, std::uint32_t bits, std::uint32_t stamp) {
-        Word& x = m_words[w]; // (branch-free: the walks set words of every kind, stale or not)
-        x.bits = std::uint8_t((x.stamp == stamp ? x.bits : 0u) | bits);
-        x.stamp = std::uint16_t(stamp);
-    }
-    /// Sets all 8 bits of word w for frame stamp: one store, no read (a brick row wholly visited).
-    void setAll(std::size_t w, std::uint32_t stamp) { m_words[w] = Word{std::uint16_t(stamp), 0xFF}; }
-    void reset() { m_words.clear(); }
-    void adviseHugePages() { m_words.adviseHugePages(); }
-    void touch() { m_words.touch(); }
-    /// Voxel k's bit (the per-voxel callers, through `layout`'s division).
-    bool voxel(const BrickRowLayout& layout, VoxelKey k, std::uint32_t stamp) const {
-        std::uint32_t bit;
-        const std::size_t w = layout.wordOf(k, bit);
-        return (get(w, stamp) & bit) != 0;
-    }
-    void setVoxel(const BrickRowLayout& layout, VoxelKey k, std::uint32_t stamp) {
-        std::uint32_t bit;
-        const std::size_t w = layout.wordOf(k, bit);
-        set(w, bit, stamp);
-    }
-
-private:
-    struct Word {
-        std::uint16_t stamp; // 0: never (a frame's stamp is >= 1)
-        std::uint8_t bits;
-    };
-    ZeroedArray<Word> m_words; // costs memory only where a walk wrote (ZeroedArray.hpp)
-};
-
 /// Dense arrays over the whole grid. What a traversal step reads and writes sits in one 8-byte cell per
 /// voxel: the I list head with O's flag in its top bit, and a 16-bit H stamp. One cell, so that a step
 /// touches one cache line whatever the axis it walks along (profiling the 3D traversal, which walks x faces
@@ -221,15 +184,14 @@ private:
 /// brick-row words of O's flags, V and U (file header) live apart. A voxel's only id sits in the cell; two or more take
 /// a 16-byte bucket per three.
 /// Stamps are 16 bits: a full clear every 65,535 frames.
-template <int D> class DenseStorage {
+template <int D> class DenseStorage : public FrameMarks<D> {
 public:
     static constexpr std::uint32_t kMaxStamp = 0xFFFF;
-    using Brick = IVec<D>; // integer coordinates: of a brick of 8^D voxels (setBrickVisited) or of a voxel
 
     explicit DenseStorage(const GridGeometry<D>& grid)
-        : m_cells(grid.voxelCount()), m_opaque(grid.voxelCount()),
+        : FrameMarks<D>(grid.resolution()), m_cells(grid.voxelCount()), m_opaque(grid.voxelCount()),
           m_layout(grid.resolution().x, grid.voxelCount() / std::size_t(grid.resolution().x)),
-          m_opaqueBits(m_layout.size()), m_visited(grid.resolution()), m_used(grid.resolution()), m_bricks(grid.resolution()), m_res(grid.resolution()) {}
+          m_opaqueBits(m_layout.size()), m_bricks(grid.resolution()), m_res(grid.resolution()) {}
 
     /// For users that read every voxel of a view, written or not (the paper's per-voxel traversals): the
     /// per-voxel arrays on huge pages (ZeroedArray::adviseHugePages says why). A hint; results never change.
@@ -237,8 +199,7 @@ public:
         m_cells.adviseHugePages();
         m_opaque.adviseHugePages();
         m_opaqueBits.adviseHugePages();
-        m_visited.adviseHugePages();
-        m_used.adviseHugePages();
+        this->adviseMarksHugePages();
     }
 
     /// For users that read and write per-voxel state of any brick they walk (the brick walks): the arrays
@@ -249,8 +210,7 @@ public:
     /// cells in 3D) stays untouched where no object ever was.
     void touchWalkedArrays(bool cells) {
         m_opaqueBits.touch();
-        m_visited.touch();
-        m_used.touch();
+        this->touchMarks();
         if (cells) m_cells.touch();
     }
     /// Every per-voxel array written now: no page's first touch ever falls in a frame (what a
@@ -302,18 +262,7 @@ public:
 
     bool occluded(VoxelKey k, std::uint32_t stamp) const { return m_cells[k].occluded == stamp; }
     void setOccluded(VoxelKey k, std::uint32_t stamp) { m_cells[k].occluded = std::uint16_t(stamp); }
-    bool used(VoxelKey k, std::uint32_t stamp) const { return m_used.voxel(k, stamp); }
-    void setUsed(VoxelKey k, std::uint32_t stamp) { m_used.setVoxel(k, stamp); }
-    /// U's bits of the brick row through voxel v (bit i: voxel (v.x & ~7) + i) in frame stamp.
-    std::uint32_t usedBits(const Brick& v, std::uint32_t stamp) const { return m_used.rowBits(v, stamp); }
-    /// Marks the voxels of the box [lo, hi] (inclusive, in the grid) used in frame stamp.
-    void markUsedBox(const Brick& lo, const Brick& hi, std::uint32_t stamp) { m_used.orBox(lo, hi, stamp); }
-    bool visited(VoxelKey k, std::uint32_t stamp) const { return m_visited.voxel(k, stamp); }
-    void setVisited(VoxelKey k, std::uint32_t stamp) { m_visited.setVoxel(k, stamp); }
-    /// Marks the voxels of brick `brick` (brick coordinates: its first voxel is 8 brick) given by `words`
-    /// visited in frame stamp, the others keeping their marks. words: 8 slice words in 3D (bit x + 8 y of
-    /// word z, relative to the brick), one in 2D (bit x + 8 y).
-    void setBrickVisited(const Brick& brick, const std::uint64_t* words, std::uint32_t stamp) { m_visited.orBrick(brick, words, stamp); }
+    // V and U: FrameMarks (visited, setVisited, setBrickVisited, used, setUsed, usedBits, markUsedBox).
     /// [Voxels] the grid's resolution.
     const IVec<D>& resolution() const { return m_res; }
 
@@ -381,8 +330,7 @@ public:
         // lazy storage never wrote stay untouched.)
         for (Cell& c : m_cells)
             if (c.occluded != 0) c.occluded = 0;
-        m_visited.reset();
-        m_used.reset();
+        this->resetMarks();
     }
 
     /// Incidences currently stored in I (for stats and consistency tests).
@@ -416,8 +364,6 @@ private:
     ZeroedArray<std::uint32_t> m_opaque; // O counts
     BrickRowLayout m_layout;
     ZeroedArray<std::uint8_t> m_opaqueBits; // O's flags as brick-row words
-    StampedBrickBits<D> m_visited;          // V
-    StampedBrickBits<D> m_used;             // U
     BrickPyramid<D> m_bricks;
     IVec<D> m_res;
     SlotBucketPool m_ids;
