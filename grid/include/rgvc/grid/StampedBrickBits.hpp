@@ -1,4 +1,6 @@
-// StampedBrickBits: V, the voxels a frame's traversal visited, as one stamped bit set per brick.
+// StampedBrickBits: a set of voxels that holds for one frame, kept as one stamped bit set per brick; and
+// FrameMarks, V (the voxels a frame's traversal visited) and U (those a fused occluder box covers) as two
+// such sets, the part of the storage concept both storages implement alike.
 #pragma once
 
 #include "rgvc/grid/Math.hpp"
@@ -70,6 +72,8 @@ public:
         m_stamps[b] = std::uint16_t(stamp);
     }
     /// The 8 bits of the brick row through voxel v in frame `stamp` (bit i: voxel (v.x & ~7) + i of the row).
+    /// Out of line: inlined into the 3D walk's row loops, it tipped GCC into calling the culler's PVS
+    /// push_back out of line (+0.7 % instructions on the clusters); a call per opaque brick row is less.
     [[gnu::noinline]] std::uint32_t rowBits(const IVec<D>& v, std::uint32_t stamp) const {
         const std::size_t b = brickIndex(v >> 3);
         if (m_stamps[b] != stamp) return 0;
@@ -79,8 +83,7 @@ public:
     /// Adds the voxels of the box [lo, hi] (inclusive; in the grid) to the set of frame `stamp`: per brick
     /// it meets, the box's part of a slice is one word (a byte per row it covers, the row's x mask in each),
     /// ORed into the slices it covers (most boxes, the insides of small movers, meet one brick). Out of
-    /// line: once per fused box, and inlined into the 3D walk it tipped GCC into calling the culler's
-    /// vector push_backs out of line (+0.7 % instructions on the clusters).
+    /// line: once per fused box, whose growth costs far more than the call.
     [[gnu::noinline]] void orBox(const IVec<D>& lo, const IVec<D>& hi, std::uint32_t stamp) {
         const IVec<D> b0 = lo >> 3, b1 = hi >> 3;
         IVec<D> b = b0;

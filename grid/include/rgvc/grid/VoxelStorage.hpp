@@ -25,8 +25,8 @@
 //                  stamped bit set per brick (StampedBrickBits.hpp): a brick walk writes a brick's at once.
 //
 // Brick rows. The brick walks (BrickTraversal2D/3D.hpp) read and write whole rows of a brick, the 8 voxels
-// x = 8 bx .. 8 bx + 7 of one grid row, as bit words: O's flags (opaqueBits), and U's row bits (usedBits).
-// Word w = rowIndex * ceil(res.x / 8) + bx, where rowIndex is the row's key / res.x (y in 2D, y + res.y z in
+// x = 8 bx .. 8 bx + 7 of one grid row, as bit words: O's flags (opaqueBits, stored so), and U's bits of a
+// brick row (usedBits, read from U's brick). O's word w = rowIndex * ceil(res.x / 8) + bx, where rowIndex is the row's key / res.x (y in 2D, y + res.y z in
 // 3D), and bit i is voxel x = 8 bx + i. Why words: reading a brick voxel by voxel for O and writing V voxel
 // by voxel was a third of the walk (rgvc_bench_classes' game world: 512 reads and writes per brick, for a
 // brick that holds a few spheres); as words a brick costs 64 (3D) or 8 (2D). A sparse backend answers the
@@ -180,8 +180,8 @@ private:
 /// touches one cache line whatever the axis it walks along (profiling the 3D traversal, which walks x faces
 /// with a stride of a whole row, showed one miss per matrix per voxel with separate arrays); 8 bytes, not
 /// the 16 of 32-bit stamps and an inline O count, so that twice as many voxels share the caches (the 3D
-/// traversal is bound by these reads). O's count (4 bytes, touched only when objects are rasterized) and the
-/// brick-row words of O's flags, V and U (file header) live apart. A voxel's only id sits in the cell; two or more take
+/// traversal is bound by these reads). O's count (4 bytes, touched only when objects are rasterized), the
+/// brick-row words of O's flags (file header) and V and U's bricks (FrameMarks) live apart. A voxel's only id sits in the cell; two or more take
 /// a 16-byte bucket per three.
 /// Stamps are 16 bits: a full clear every 65,535 frames.
 template <int D> class DenseStorage : public FrameMarks<D> {
@@ -205,7 +205,7 @@ public:
     /// For users that read and write per-voxel state of any brick they walk (the brick walks): the arrays
     /// a walk reaches in every brick it reads, written now, so that a camera moving into space not seen
     /// before pays no page's first touch during a frame (the walk reads and writes them in every brick it
-    /// visits, occupied or not by anything written before). O's flags, V and U are 7 bits a voxel; `cells` adds the cells
+    /// visits, occupied or not by anything written before). O's flags, V and U are about 3 bits a voxel; `cells` adds the cells
     /// (8 bytes a voxel), which the 2D walk reads for ids. What only objects write (O's counts, and the
     /// cells in 3D) stays untouched where no object ever was.
     void touchWalkedArrays(bool cells) {
