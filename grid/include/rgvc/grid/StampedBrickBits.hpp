@@ -34,11 +34,8 @@ public:
     StampedBrickBits() = default;
     /// [Limit] res: the grid's resolution, each axis in [1, 2^31 - 1], at most 2^32 - 1 voxels in all.
     explicit StampedBrickBits(const IVec<D>& res) : m_res(res) {
-        std::size_t bricks = 1;
-        for (int a = 0; a < D; ++a) {
-            m_bricks[a] = ((res[a] - 1) >> 3) + 1;
-            bricks *= std::size_t(m_bricks[a]);
-        }
+        for (int a = 0; a < D; ++a) m_bricks[a] = ((res[a] - 1) >> 3) + 1;
+        const std::size_t bricks = cellCount<D>(m_bricks);
         m_divX = divider(std::uint32_t(res.x));
         m_divY = divider(std::uint32_t(res.y));
         m_stamps = ZeroedArray<std::uint16_t>(bricks);
@@ -135,11 +132,7 @@ private:
     static std::uint32_t fastDivide(std::uint32_t n, std::uint64_t m) {
         return m == 0 ? n : std::uint32_t((static_cast<brick_bits_detail::U128>(m) * n) >> 64);
     }
-    std::size_t brickIndex(const IVec<D>& brick) const {
-        std::size_t b = std::size_t(brick[D - 1]);
-        for (int a = D - 2; a >= 0; --a) b = b * std::size_t(m_bricks[a]) + std::size_t(brick[a]);
-        return b;
-    }
+    std::size_t brickIndex(const IVec<D>& brick) const { return cellIndex<D>(m_bricks, brick); }
     /// Voxel k's brick, its word in the brick and its bit in the word.
     void locate(std::uint32_t k, std::size_t& b, int& word, int& bit) const {
         const std::uint32_t row = fastDivide(k, m_divX), x = k - row * std::uint32_t(m_res.x);
@@ -168,7 +161,7 @@ private:
 /// DenseStorage and the culler's per-view ViewStorage implement alike, so both derive from it.
 template <int D> class FrameMarks {
 public:
-    using Brick = IVec<D>; // integer coordinates: of a brick of 8^D voxels (setBrickVisited) or of a voxel
+    using Coord = IVec<D>; // integer coordinates: of a voxel, or of a brick of 8^D voxels (setBrickVisited)
 
     explicit FrameMarks(const IVec<D>& res) : m_visited(res), m_used(res) {}
 
@@ -178,14 +171,14 @@ public:
     /// Marks the voxels of brick `brick` (its first voxel is 8 brick) given by `words` visited in frame
     /// stamp, the others keeping their marks. words: 8 slice words in 3D (bit x + 8 y of word z, relative
     /// to the brick), one in 2D (bit x + 8 y).
-    void setBrickVisited(const Brick& brick, const std::uint64_t* words, std::uint32_t stamp) { m_visited.orBrick(brick, words, stamp); }
+    void setBrickVisited(const Coord& brick, const std::uint64_t* words, std::uint32_t stamp) { m_visited.orBrick(brick, words, stamp); }
     /// Whether voxel k is part of an occluder box drawn in frame stamp; marks it.
     bool used(std::uint32_t k, std::uint32_t stamp) const { return m_used.voxel(k, stamp); }
     void setUsed(std::uint32_t k, std::uint32_t stamp) { m_used.setVoxel(k, stamp); }
     /// U's bits of the brick row through voxel v (bit i: voxel (v.x & ~7) + i) in frame stamp.
-    std::uint32_t usedBits(const Brick& v, std::uint32_t stamp) const { return m_used.rowBits(v, stamp); }
+    std::uint32_t usedBits(const Coord& v, std::uint32_t stamp) const { return m_used.rowBits(v, stamp); }
     /// Marks the voxels of the box [lo, hi] (inclusive, in the grid) used in frame stamp.
-    void markUsedBox(const Brick& lo, const Brick& hi, std::uint32_t stamp) { m_used.orBox(lo, hi, stamp); }
+    void markUsedBox(const Coord& lo, const Coord& hi, std::uint32_t stamp) { m_used.orBox(lo, hi, stamp); }
 
 protected:
     void resetMarks() {

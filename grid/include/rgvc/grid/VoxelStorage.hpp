@@ -63,9 +63,9 @@ concept VoxelStorage = requires(S s, const S cs, VoxelKey k, ObjectSlot o, std::
     s.setVisited(k, stamp);
     { cs.rowWord(std::uint32_t{}, std::int32_t{}) } -> std::convertible_to<std::size_t>;
     { cs.opaqueBits(std::size_t{}) } -> std::convertible_to<std::uint32_t>;
-    s.setBrickVisited(typename S::Brick{}, static_cast<const std::uint64_t*>(nullptr), stamp);
-    { cs.usedBits(typename S::Brick{}, stamp) } -> std::convertible_to<std::uint32_t>;
-    s.markUsedBox(typename S::Brick{}, typename S::Brick{}, stamp);
+    s.setBrickVisited(typename S::Coord{}, static_cast<const std::uint64_t*>(nullptr), stamp);
+    { cs.usedBits(typename S::Coord{}, stamp) } -> std::convertible_to<std::uint32_t>;
+    s.markUsedBox(typename S::Coord{}, typename S::Coord{}, stamp);
     { cs.hasIds(k) } -> std::convertible_to<bool>;
     cs.forEachId(k, [](ObjectSlot) {});
     s.addId(k, o);
