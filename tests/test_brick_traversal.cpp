@@ -464,6 +464,124 @@ TEST_CASE("brick traversal 2D: work follows the non-empty part of the view", "[c
     }
 }
 
+namespace {
+
+/// A wall one voxel thick on whole voxels (x in [20, 21]) across the whole grid, as one box or as unit
+/// boxes sharing their faces, and balls moving behind it (tbvMaxGrowth 4: a hidden ball's TBV reaches 3
+/// to 4 voxels past it, so the TBVs of those 3 to 4 voxels behind the wall end in its voxels).
+/// 1. Effectiveness: the balls move along the wall (never in x), the camera stands 11 voxels in front of
+///    it, well inside the grid, turning through +-60 degrees. The wall's voxels are in view, but nothing
+///    can be seen through them (a ball behind the wall reaching into them would still be hidden), so no
+///    TBV is revealed after the first frames and no ball is in the PVS. (Before the walks left T's
+///    opaque voxels out, seed 1 revealed 5 TBVs in 3D over these frames and 13 in 2D.)
+/// 2. Conservativeness: the balls cross the wall both ways and the camera walks anywhere in the grid, up
+///    to its faces (where the walks look opaque voxels up again): zero misses against the exact reference.
+template <int D> void tbvsEndingInAWall(std::uint64_t seed, bool unitBoxes) {
+    IVec<D> res(D == 2 ? 48 : 16);
+    res[0] = 48;
+    if constexpr (D == 3) res[2] = 24;
+    const GridGeometry<D> grid(Vec<D>(0.0), 1.0, res);
+    std::mt19937_64 rng(seed);
+    std::vector<ObjectDesc<D>> objects;
+    auto add = [&](const Shape<D>& s, bool isStatic, double maxSpeed) {
+        objects.push_back({.id = ObjectId(objects.size() + 1), .shape = s, .isStatic = isStatic, .maxSpeed = maxSpeed});
+    };
+    Box<D> wall{Vec<D>(0.0), Vec<D>(res)};
+    wall.min[0] = 20;
+    wall.max[0] = 21;
+    if (!unitBoxes) {
+        add(wall, true, 0);
+    } else {
+        const int cells = D == 2 ? res[1] : res[1] * res[2];
+        for (int k = 0; k < cells; ++k) {
+            Vec<D> lo(20.0);
+            lo[1] = k % res[1];
+            if constexpr (D == 3) lo[2] = k / res[1];
+            add(Box<D>{lo, lo + 1.0}, true, 0);
+        }
+    }
+    const std::size_t firstBall = objects.size();
+    std::vector<Vec<D>> velocity;
+    for (int i = 0; i < 40; ++i) {
+        const double r = rs::uniform(rng, 0.3, 0.8), speed = rs::uniform(rng, 0.05, 0.3);
+        Vec<D> c;
+        c[0] = i % 2 == 0 ? rs::uniform(rng, 24.05, 25.0) + r : rs::uniform(rng, 24.05 + r, 40.0);
+        Vec<D> v(0.0);
+        for (int a = 1; a < D; ++a) {
+            c[a] = rs::uniform(rng, r + 0.1, res[a] - r - 0.1);
+            v[a] = rs::uniform(rng, -0.6, 0.6) * speed;
+        }
+        add(Ball<D>{c, r}, false, speed);
+        velocity.push_back(v);
+    }
+    CullerOptions options;
+    options.tbvMaxGrowth = 4;
+    Culler<D> culler(grid, options);
+    for (const ObjectDesc<D>& o : objects) culler.addObject(o);
+    auto move = [&] { // reflected at the grid's faces
+        for (std::size_t i = firstBall; i < objects.size(); ++i) {
+            Vec<D>& v = velocity[i - firstBall];
+            const Box<D> b = boundsOf<D>(objects[i].shape);
+            for (int a = 0; a < D; ++a)
+                if (b.min[a] + v[a] < 0.05 || b.max[a] + v[a] > res[a] - 0.05) v[a] = -v[a];
+            objects[i].shape = translated<D>(objects[i].shape, v);
+        }
+    };
+    auto query = [&](ObjectId id) -> Shape<D> { return objects[std::size_t(id - 1)].shape; };
+    auto camera = [&](const Vec<D>& at, double yaw, double pitch) {
+        if constexpr (D == 2) return makeCamera(at, Vec2{std::cos(yaw), std::sin(yaw)}, 90);
+        else return makeCamera(at, Vec3{std::cos(pitch) * std::cos(yaw), std::sin(pitch), std::cos(pitch) * std::sin(yaw)}, 90);
+    };
+    std::uint32_t revealed = 0, ballsReported = 0;
+    for (int f = 0; f < 40; ++f) {
+        Vec<D> at(0.5 * res[1] + 0.3);
+        at[0] = 9.3 + 0.4 * std::sin(0.3 * f);
+        if constexpr (D == 3) at[2] = 0.5 * res[2] + 0.2;
+        const CullResult& r = culler.cull(camera(at, kPi / 3 * std::sin(0.2 * f), 0.25 * std::sin(0.13 * f)), query);
+        for (std::size_t i = firstBall; i < objects.size(); ++i) ballsReported += contains(r.pvs, objects[i].id);
+        if (f >= 2) revealed += r.stats.tbvsRevealed;
+        move();
+    }
+    INFO("seed " << seed << (unitBoxes ? ", unit boxes" : ", one box"));
+    std::printf("[brick] %dD wall of %s: %u TBVs revealed behind it over 38 frames, %u balls hidden\n", D,
+                unitBoxes ? "unit boxes" : "one box", revealed, culler.lastResult().stats.hiddenObjects);
+    CHECK(ballsReported == 0);
+    CHECK(revealed == 0);
+    CHECK(culler.lastResult().stats.hiddenObjects >= 30); // the TBVs were there to reveal
+    // 2. The balls cross the wall; the camera walks up to the grid's faces.
+    for (std::size_t i = firstBall; i < objects.size(); ++i) velocity[i - firstBall][0] = rs::uniform(rng, -0.9, 0.9) * objects[i].maxSpeed;
+    std::size_t misses = 0, seen = 0;
+    Vec<D> at(0.5 * Vec<D>(res));
+    at[0] = 15.5;
+    for (int f = 0; f < 40; ++f) {
+        for (int a = 0; a < D; ++a) at[a] = std::clamp(at[a] + rs::uniform(rng, -1.5, 1.5), 0.02, res[a] - 0.02);
+        if (f % 10 == 0) at[0] = rs::uniform(rng, 0.02, 1.0); // at the grid's face
+        const auto cam = camera(at, rs::uniform(rng, -kPi / 2, kPi / 2), rs::uniform(rng, -0.4, 0.4));
+        const CullResult& r = culler.cull(cam, query);
+        const std::vector<bool> vis = culler_test::referenceVisible<D>(reference::shapesOf(objects), cam);
+        for (std::size_t i = 0; i < objects.size(); ++i) {
+            seen += vis[i] && i >= firstBall;
+            if (vis[i] && !contains(r.pvs, objects[i].id)) {
+                ++misses;
+                FAIL_CHECK("frame " << f << ": missed visible object " << objects[i].id);
+            }
+        }
+        move();
+    }
+    CHECK(misses == 0);
+    CHECK(seen > 0);
+}
+
+} // namespace
+
+TEST_CASE("brick traversal: a TBV that ends in a wall is not revealed, and balls crossing the wall are not missed",
+          "[culler3d][culler2d][brick][tbv]") {
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+        tbvsEndingInAWall<2>(seed, seed == 2);
+        tbvsEndingInAWall<3>(seed, seed == 3);
+    }
+}
+
 TEST_CASE("brick pyramid: marks and clears propagate exactly", "[grid][brick]") {
     std::mt19937_64 rng(3);
     for (const IVec3 res : {IVec3{8, 8, 8}, IVec3{9, 17, 33}, IVec3{100, 60, 100}}) {

@@ -63,10 +63,12 @@ public:
     /// @param mayHoldTbv bool(IVec2 brick): whether a TBV may hold a voxel of that brick (false: a guarantee).
     /// @param onVoxel    void(VoxelKey, IVec2 voxel): called for every voxel of a visited brick that is in
     ///                   view and holds ids. Its visited mark is set (stamp). It may add ids and draw.
-    /// @param onTbvs     void(IVec2 brick, const std::uint8_t inView[8]): for a visited brick that may hold
-    ///                   a TBV, called after the brick's ids with its voxels in view (bit x - lo.x of row
-    ///                   y - lo.y, lo = 8 brick); the caller looks them up in T and tests them against the
-    ///                   image.
+    /// @param onTbvs     void(IVec2 brick, const std::uint8_t inView[8], opaqueRow): for a visited brick that
+    ///                   may hold a TBV, called after the brick's ids with its voxels in view (bit x - lo.x
+    ///                   of row y - lo.y, lo = 8 brick); the caller looks them up in T and tests them
+    ///                   against the image. opaqueRow(int row) gives the voxels in O of a row in the grid
+    ///                   (lo.y + row < the grid's rows), for a caller that leaves those out (BrickPass.cpp
+    ///                   says when).
     /// @param insideObject bool(VoxelKey seed, IVec2 lo, IVec2 hi): whether the voxel box lo..hi (inclusive)
     ///                   grown from opaque voxel `seed` lies inside one box object the caller draws itself.
     template <class MayHoldTbv, class OnVoxel, class OnTbvs, class InsideObject>
@@ -166,7 +168,8 @@ private:
                 onVoxel(VoxelKey(row + std::uint32_t(x)), IVec2{x, y});
             }
         }
-        if (tbvHere) onTbvs(brick, inView);
+        if (tbvHere)
+            onTbvs(brick, inView, [&](int row) { return std::uint32_t(storage.opaqueBits(storage.rowWord(std::uint32_t(lo.y + row), lo.x))); });
         // (Not over a storage shared by concurrent views, kSharedScene: the pyramid is the scene's; it is
         // left as a superset, which only costs a later walk the brick's voxels once more.)
         if constexpr (!requires { Storage::kSharedScene; }) {

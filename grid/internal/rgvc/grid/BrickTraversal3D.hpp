@@ -73,10 +73,13 @@ public:
     /// @param onVoxel    void(VoxelKey, IVec3 voxel): called for every voxel of a visited brick that touches
     ///                   the frustum and holds ids. Its visited mark is set (stamp). It may add ids to the
     ///                   storage (a revealed object) and draw.
-    /// @param onTbvs     void(IVec3 brick, const std::uint64_t visited[8]): for a visited brick that may
-    ///                   hold a TBV, called once after its ids, with the brick's voxels that touch the
-    ///                   frustum (slice words: bit x + 8 y of slice z, brick-local); the caller tests those
-    ///                   that hold a TBV against the image.
+    /// @param onTbvs     void(IVec3 brick, const std::uint64_t visited[8], const std::uint64_t opaque[8]): for
+    ///                   a visited brick that may hold a TBV, called once after its ids, with the brick's
+    ///                   voxels that touch the frustum and those of them in O as its fused boxes read O
+    ///                   (none without an image; O only grows during a walk, so they are in O at the call)
+    ///                   (slice words: bit x + 8 y of slice z, brick-local); the caller tests those that
+    ///                   hold a TBV against the image (and may leave out the opaque ones: BrickPass.cpp
+    ///                   says when).
     /// @param insideObject bool(VoxelKey seed, IVec3 lo, IVec3 hi): whether the voxel box lo..hi (inclusive)
     ///                   grown from opaque voxel `seed` lies inside one object the caller will draw itself
     ///                   (a box object holding the seed): that fused box then adds nothing and is not drawn.
@@ -217,6 +220,7 @@ private:
                 return;
             }
         int rows = 0;
+        std::uint64_t opaque[8] = {0, 0, 0, 0, 0, 0, 0, 0}; // onTbvs's: the opaque voxels the fused boxes read
         for (std::int32_t z = lo.z; z < hi.z; ++z)
             for (std::int32_t y = lo.y; y < hi.y; ++y) {
                 RowInfo& r = m_rows[std::size_t(rows++)];
@@ -243,6 +247,7 @@ private:
                 std::uint32_t bits = storage.opaqueBits(r.word) & span;
                 if (bits == 0) continue; // (most rows: U is read only where O is set, and again after each box,
                                          // which marks later voxels of the row used)
+                opaque[z - lo.z] |= std::uint64_t(bits) << (8 * (y - lo.y));
                 drawFusedBoxes(grid, storage, frustum, *image, bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
             }
         // The caller's list of the brick's objects, after the fused boxes as the ids would be.
@@ -272,7 +277,7 @@ private:
             visible[r.z - lo.z] |= std::uint64_t(inView) << (8 * (r.y - lo.y));
         }
         storage.setBrickVisited(brick, visible, stamp);
-        if (tbvHere) onTbvs(brick, visible);
+        if (tbvHere) onTbvs(brick, visible, opaque);
         clearIfEmpty(storage, brick, anyIds, tbvHere, st);
     }
 
@@ -291,7 +296,7 @@ private:
         rowWords(grid, storage, lo, hi, words);
         std::uint32_t inView[64]; // per row (z major): bit x - lo.x, the span's voxels
         std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0};
-        std::uint64_t visited = 0;
+        std::uint64_t visited = 0, opaque[8] = {0, 0, 0, 0, 0, 0, 0, 0};
         for (std::int32_t z = lo.z, i = 0; z < hi.z; ++z)
             for (std::int32_t y = lo.y; y < hi.y; ++y, ++i) {
                 const std::size_t c = std::size_t(8 * (z - lo.z) + (y - lo.y));
@@ -304,9 +309,10 @@ private:
         st.voxelsVisited += visited;
         storage.setBrickVisited(brick, visible, stamp);
         if (image != nullptr)
-            drawOpaqueRows(grid, storage, frustum, *image, lo, hi, words, [&](int i) { return inView[i]; }, stamp, insideObject, st);
+            drawOpaqueRows(grid, storage, frustum, *image, lo, hi, words, [&](int i) { return inView[i]; }, stamp, insideObject,
+                           opaque, st);
         const bool anyIds = onBrickIds(brick, false);
-        if (tbvHere) onTbvs(brick, visible);
+        if (tbvHere) onTbvs(brick, visible, opaque);
         clearIfEmpty(storage, brick, anyIds, tbvHere, st);
     }
 
@@ -322,8 +328,9 @@ private:
         const std::uint32_t full = (2u << (hi.x - 1 - lo.x)) - 1u; // bits x - lo.x of the row
         std::size_t words[64];
         const int rows = rowWords(grid, storage, lo, hi, words);
+        std::uint64_t opaque[8] = {0, 0, 0, 0, 0, 0, 0, 0};
         if (image != nullptr)
-            drawOpaqueRows(grid, storage, frustum, *image, lo, hi, words, [&](int) { return full; }, stamp, insideObject, st);
+            drawOpaqueRows(grid, storage, frustum, *image, lo, hi, words, [&](int) { return full; }, stamp, insideObject, opaque, st);
         const bool anyIds = onBrickIds(brick, true);
         st.voxelsVisited += std::uint64_t(rows) * std::uint64_t(hi.x - lo.x);
         std::uint64_t slice = 0; // `full` on each of the brick's rows along y
@@ -331,7 +338,7 @@ private:
         std::uint64_t visible[8] = {0, 0, 0, 0, 0, 0, 0, 0};
         for (std::int32_t z = lo.z; z < hi.z; ++z) visible[z - lo.z] = slice;
         storage.setBrickVisited(brick, visible, stamp);
-        if (tbvHere) onTbvs(brick, visible);
+        if (tbvHere) onTbvs(brick, visible, opaque);
         clearIfEmpty(storage, brick, anyIds, tbvHere, st);
     }
 
@@ -353,16 +360,19 @@ private:
     }
 
     /// The fused boxes started from the brick's rows (words as rowWords gives them), row after row, from
-    /// each row's opaque voxels among mask(i) (bit x - lo.x of row i).
+    /// each row's opaque voxels among mask(i) (bit x - lo.x of row i); those voxels ORed into `opaque`
+    /// (slice words, onTbvs's).
     template <class Mask, class InsideObject>
     void drawOpaqueRows(const GridGeometry3& grid, Storage& storage, const ViewFrustum& frustum, OcclusionBuffer3D& image,
                         const IVec3& lo, const IVec3& hi, const std::size_t* words, Mask&& mask, std::uint32_t stamp,
-                        InsideObject& insideObject, BrickTraversalStats3D& st) {
+                        InsideObject& insideObject, std::uint64_t (&opaque)[8], BrickTraversalStats3D& st) {
         int i = 0;
         for (std::int32_t z = lo.z; z < hi.z; ++z)
             for (std::int32_t y = lo.y; y < hi.y; ++y, ++i) {
                 const std::uint32_t bits = storage.opaqueBits(words[i]) & mask(i);
-                if (bits != 0) drawFusedBoxes(grid, storage, frustum, image, bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
+                if (bits == 0) continue;
+                opaque[z - lo.z] |= std::uint64_t(bits) << (8 * (y - lo.y));
+                drawFusedBoxes(grid, storage, frustum, image, bits, IVec3{lo.x, y, z}, stamp, insideObject, st);
             }
     }
 
