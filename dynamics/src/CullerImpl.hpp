@@ -50,7 +50,7 @@ namespace rgvc {
 template <class T, class V> constexpr std::size_t variantIndexOf() {
     return []<std::size_t... I>(std::index_sequence<I...>) {
         std::size_t index = std::variant_size_v<V>;
-        ((std::is_same_v<T, std::variant_alternative_t<I, V>> ? (index = I, true) : false) || ...);
+        (void)((std::is_same_v<T, std::variant_alternative_t<I, V>> ? (index = I, true) : false) || ...); // (clang: -Wunused-value)
         return index;
     }(std::make_index_sequence<std::variant_size_v<V>>{});
 }
