@@ -18,6 +18,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <random>
 #include <set>
 #include <sstream>
@@ -760,6 +761,82 @@ TEST_CASE("tbv: 3D bricks match a model through random inserts, erases and looku
     }
     CHECK(positives > 20000); // the lookups did meet held voxels, not only empty space
     CHECK(lookups > 200000);
+}
+
+TEST_CASE("tbv: 3D brickBits with a rebuild limit: a long stale list is read as a superset, settleBrick makes it exact", "[tbv]") {
+    // What the brick walk reads (BrickPass.cpp, kRebuildUpTo): a stale brick whose list holds more TBVs
+    // than the limit is returned as it stands, a superset of the live TBVs' voxels that still holds every
+    // one of them (the walk confirms each voxel against brickParts); a shorter one is rebuilt, exact.
+    // settleBrick with the parts just read makes a stale brick exact without its list walk. Boxes around
+    // one brick, so that its list grows long; random erases stale it.
+    const std::uint64_t seed = 707;
+    std::mt19937_64 rng(seed);
+    const IVec3 res{24, 24, 24}, brick{1, 1, 1};
+    std::size_t supersets = 0, strict = 0, rebuilt = 0, settled = 0;
+    for (int iter = 0; iter < 60; ++iter) {
+        INFO("seed " << seed << " iteration " << iter);
+        TbvMatrix<3> t(res);
+        Model3D model;
+        std::vector<ObjectSlot> slots;
+        std::vector<std::array<std::uint64_t, 8>> parts;
+        std::uint64_t bits[8];
+        for (int op = 0; op < 150; ++op) {
+            CAPTURE(op);
+            if (model.live.size() < 60 && (model.live.empty() || sr::chance(rng, 0.6))) {
+                Model3D::Entry e;
+                e.slot = ObjectSlot(model.live.empty() ? 0 : std::max_element(model.live.begin(), model.live.end(), [](const auto& a, const auto& b) {
+                                                                 return a.slot < b.slot;
+                                                             })->slot + 1);
+                e.region.centre = Vec3(12.0) + Vec3(sr::uniform(rng, -5, 5), sr::uniform(rng, -5, 5), sr::uniform(rng, -5, 5));
+                e.region.radius = sr::uniform(rng, 0.5, 7.0);
+                e.mode = sr::chance(rng, 0.2) ? TbvDiscretization::Filled : TbvDiscretization::Boundary;
+                e.inGrid = tbvVoxelBox3D(e.region, res, e.lo, e.hi);
+                t.insert(e.slot, e.region, e.mode);
+                model.live.push_back(e);
+            } else {
+                const std::size_t i = std::size_t(sr::uniformInt(rng, 0, int(model.live.size()) - 1));
+                t.erase(model.live[i].slot, model.live[i].region, model.live[i].mode);
+                model.live.erase(model.live.begin() + std::ptrdiff_t(i));
+            }
+            if (op % 3 != 2) continue;
+            // The brick's exact voxels, and its list's length (brickParts lists every slot of it once).
+            std::uint64_t exact[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+            for (std::int32_t z = 0; z < 8; ++z)
+                for (std::int32_t y = 0; y < 8; ++y)
+                    for (std::int32_t x = 0; x < 8; ++x)
+                        if (!model.holding(brick * 8 + IVec3{x, y, z}).empty()) exact[z] |= std::uint64_t(1) << (x + 8 * y);
+            t.brickParts(brick, slots, parts);
+            const std::uint32_t limit = std::uint32_t(sr::pick(rng, std::vector<int>{0, 4, 16, 1000}));
+            CAPTURE(limit, slots.size());
+            std::fill(std::begin(bits), std::end(bits), 0);
+            t.brickBits(brick, bits, limit);
+            bool same = true, holds = true;
+            for (int z = 0; z < 8; ++z) {
+                same = same && bits[z] == exact[z];
+                holds = holds && (bits[z] & exact[z]) == exact[z];
+            }
+            CHECK(holds); // never a voxel of a live TBV left out
+            if (slots.size() <= limit) {
+                CHECK(same); // rebuilt when stale
+                ++rebuilt;
+            } else {
+                ++supersets;
+                strict += !same;
+            }
+            if (sr::chance(rng, 0.3)) {
+                t.settleBrick(brick, parts);
+                std::fill(std::begin(bits), std::end(bits), 0);
+                t.brickBits(brick, bits, 0); // no rebuild allowed: exact only if settled
+                for (int z = 0; z < 8; ++z) CHECK(bits[z] == exact[z]);
+                ++settled;
+            }
+        }
+    }
+    std::printf("[tbv] brick reads: %zu rebuilt or exact, %zu supersets (%zu strictly larger), %zu settled\n", rebuilt, supersets,
+                strict, settled);
+    CHECK(strict > 50); // the long lists' erases did leave stale bits, which the limit kept
+    CHECK(rebuilt > 50);
+    CHECK(settled > 50);
 }
 
 TEST_CASE("tbv: the 2D ring and 3D shell stop every segment from an outside camera to a point inside", "[tbv]") {
