@@ -384,7 +384,9 @@ template <int D> struct Culler<D>::Impl {
     /// scene's record of it (lastPvsFrame, the grid's verdict, which the next scene update reads) is
     /// written here for cull()'s view, while the caller has the record in cache (a pass over the PVS's
     /// records after the walk took a cache miss per object), and after all views by cullViews.
-    template <class S> void addToPvs(ViewScratch<S>& vs, ObjectSlot slot) {
+    /// (flatten: GCC inlines the two push_backs here whatever its budget for the caller; where it did not,
+    /// as after unrelated changes to BrickPass.cpp, the clusters paid 0.7 % more instructions for the calls.)
+    template <class S> [[gnu::flatten]] void addToPvs(ViewScratch<S>& vs, ObjectSlot slot) {
         if (vs.pvsStamp[slot] == vs.stamp) return;
         vs.pvsStamp[slot] = vs.stamp;
         Record& r = records[slot];
