@@ -777,6 +777,7 @@ TEST_CASE("tbv: 3D brickBits with a rebuild limit: a long stale list is read as 
         INFO("seed " << seed << " iteration " << iter);
         TbvMatrix<3> t(res);
         Model3D model;
+        ObjectSlot nextSlot = 0;
         std::vector<ObjectSlot> slots;
         std::vector<std::array<std::uint64_t, 8>> parts;
         std::uint64_t bits[8];
@@ -784,9 +785,7 @@ TEST_CASE("tbv: 3D brickBits with a rebuild limit: a long stale list is read as 
             CAPTURE(op);
             if (model.live.size() < 60 && (model.live.empty() || sr::chance(rng, 0.6))) {
                 Model3D::Entry e;
-                e.slot = ObjectSlot(model.live.empty() ? 0 : std::max_element(model.live.begin(), model.live.end(), [](const auto& a, const auto& b) {
-                                                                 return a.slot < b.slot;
-                                                             })->slot + 1);
+                e.slot = nextSlot++;
                 e.region.centre = Vec3(12.0) + Vec3(sr::uniform(rng, -5, 5), sr::uniform(rng, -5, 5), sr::uniform(rng, -5, 5));
                 e.region.radius = sr::uniform(rng, 0.5, 7.0);
                 e.mode = sr::chance(rng, 0.2) ? TbvDiscretization::Filled : TbvDiscretization::Boundary;

@@ -225,10 +225,9 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
             std::uint64_t held[8];
             const bool lists = tbvs.hasBrickLists();
             if (lists && !tbvs.brickBits(brick, held, kRebuildUpTo)) return;
-            const std::uint64_t leave = leaveOpaque ? ~std::uint64_t(0) : 0; // O's voxels left out where set
             bool any = false;
             for (int z = 0; z < 8; ++z) {
-                const std::uint64_t open = visited[z] & ~(opaque[z] & leave);
+                const std::uint64_t open = leaveOpaque ? visited[z] & ~opaque[z] : visited[z];
                 any = (held[z] = lists ? held[z] & open : open) != 0 || any;
             }
             if (!any) return;
