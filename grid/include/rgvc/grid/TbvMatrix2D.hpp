@@ -109,6 +109,13 @@ public:
         --m_live;
         return m_tileLists.eraseAll(slot);
     }
+    /// Replaces the slot's region (live, inserted with the same mode) by r: erase, then insert (the tile
+    /// lists are exact to the ring, so a renewal's tiles change with it; TbvMatrix<3> keeps a renewal's
+    /// nodes where they stay the same).
+    std::size_t renew(ObjectSlot slot, const TbvRegion<2>& r, TbvDiscretization mode) {
+        const std::size_t removed = erase(slot, r, mode);
+        return removed + insert(slot, r, mode);
+    }
     /// Appends the slots whose TBV covers voxel v (in the grid) to out. Writes v's tile's counts first if
     /// they are not yet.
     void collectAt(const IVec2& v, std::vector<ObjectSlot>& out) {
