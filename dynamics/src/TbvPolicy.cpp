@@ -170,7 +170,10 @@ template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, std::span<cons
         // wait for its first line was nine tenths of this loop's own time in perf. The record a few
         // renewals ahead is fetched meanwhile (a hint only: nothing is read from it here).
         for (std::size_t e = 0; e < bucket.size(); ++e) {
-            if (e + kRecordsAhead < bucket.size()) prefetchRecord(bucket[e + kRecordsAhead].first);
+            if (e + kRecordsAhead < bucket.size()) {
+                prefetchRecord(bucket[e + kRecordsAhead].first);
+                tbvs.prefetch(bucket[e + kRecordsAhead].first); // its box and node indices in T
+            }
             const auto [slot, generation] = bucket[e];
             Record& r = records[slot];
             if (!r.alive || r.state != State::Hidden || r.tbvGeneration != generation || r.tbvExpiry != frameIndex)

@@ -4,8 +4,9 @@
 // Why not SlotListPool (I's lists): removing one slot from a singly linked list walks the list, and T
 // lists get long where many TBVs overlap (clustered objects; in 3D, a brick's list holds every TBV whose
 // shell reaches into its 8^3 voxels). Profiling the moving-spheres benchmark showed those walks
-// as 90% of the frame. Here every node is doubly linked in its cell's list and also chained to the other
-// nodes of its slot, so erasing a TBV unlinks its nodes directly, whatever the lists' lengths.
+// as 90% of the frame. Here every node is doubly linked in its cell's list, and each slot's nodes are
+// known to its owner (TbvSlotNodes), so erasing a TBV unlinks its nodes directly, whatever the lists'
+// lengths.
 #pragma once
 
 #include "rgvc/grid/VoxelStorage.hpp"
@@ -14,6 +15,19 @@
 #include <vector>
 
 namespace rgvc {
+
+/// Where one slot's nodes are: the first kInline by index, the others chained through their nodes. The
+/// owner keeps it next to what it reads with the slot's nodes (TbvMatrix<3>: in the slot's box record,
+/// one cache line for both). Why not a chain through every node: the nodes of a slot lie anywhere in the
+/// pool, and erasing a TBV followed the chain one node at a time, each a cache miss that had to finish
+/// before the next could start (the 100k room's renewals: two thirds of an erase waited on it, in perf);
+/// indices in one line let the processor fetch the nodes at once.
+struct TbvSlotNodes {
+    static constexpr std::uint32_t kInline = 6;
+    std::uint32_t node[kInline] = {kNone, kNone, kNone, kNone, kNone, kNone};
+    std::uint32_t count = 0;        // the slot's nodes
+    std::uint32_t overflow = kNone; // its nodes past kInline, chained through Node::slotNext
+};
 
 class TbvListPool {
 public:
@@ -25,10 +39,9 @@ public:
         for (std::uint32_t n = head; n != kNone; n = m_nodes[n].next) fn(m_nodes[n].slot);
     }
 
-    /// Adds slot to the list whose head word is `head`. The head word must not move while the node lives
-    /// (the owner's head arrays are allocated once).
-    void add(std::uint32_t& head, ObjectSlot slot) {
-        if (slot >= m_slotFirst.size()) m_slotFirst.resize(std::size_t(slot) + 1, kNone);
+    /// Adds slot to the list whose head word is `head`, noting the node in `nodes` (the slot's). The head
+    /// word must not move while the node lives (the owner's head arrays are allocated once).
+    void add(std::uint32_t& head, ObjectSlot slot, TbvSlotNodes& nodes) {
         std::uint32_t n;
         if (m_free != kNone) {
             n = m_free;
@@ -37,36 +50,38 @@ public:
             n = std::uint32_t(m_nodes.size());
             m_nodes.emplace_back(); // amortised growth of one pool, not a per-voxel allocation
         }
-        m_nodes[n] = {slot, head, kNone, m_slotFirst[slot], &head};
+        std::uint32_t chained = kNone;
+        if (nodes.count < TbvSlotNodes::kInline) {
+            nodes.node[nodes.count] = n;
+        } else {
+            chained = nodes.overflow;
+            nodes.overflow = n;
+        }
+        ++nodes.count;
+        m_nodes[n] = {slot, head, kNone, chained, &head};
         if (head != kNone) m_nodes[head].prev = n;
         head = n;
-        m_slotFirst[slot] = n;
         ++m_used;
     }
 
-    /// Removes every node of slot, calling onHead(head) with the head word of each node's list first
-    /// (the owner learns which lists changed). Returns how many.
-    template <class OnHead> std::size_t eraseAll(ObjectSlot slot, OnHead&& onHead) {
-        if (slot >= m_slotFirst.size()) return 0;
-        std::size_t count = 0;
-        for (std::uint32_t n = m_slotFirst[slot]; n != kNone;) {
-            Node& node = m_nodes[n];
-            onHead(static_cast<const std::uint32_t*>(node.head));
-            if (node.prev == kNone) *node.head = node.next;
-            else m_nodes[node.prev].next = node.next;
-            if (node.next != kNone) m_nodes[node.next].prev = node.prev;
-            const std::uint32_t following = node.slotNext;
-            node.next = m_free;
-            m_free = n;
+    /// Removes every node noted in `nodes` (left empty), calling onHead(head) with the head word of each
+    /// node's list first (the owner learns which lists changed). Returns how many.
+    template <class OnHead> std::size_t eraseAll(TbvSlotNodes& nodes, OnHead&& onHead) {
+        const std::uint32_t count = nodes.count;
+        const std::uint32_t direct = count < TbvSlotNodes::kInline ? count : TbvSlotNodes::kInline;
+        for (std::uint32_t i = 0; i < direct; ++i) unlink(nodes.node[i], onHead);
+        for (std::uint32_t n = nodes.overflow; n != kNone;) {
+            const std::uint32_t following = m_nodes[n].slotNext;
+            unlink(n, onHead);
             n = following;
-            ++count;
         }
-        m_slotFirst[slot] = kNone;
+        nodes.count = 0;
+        nodes.overflow = kNone;
         m_used -= count;
         return count;
     }
-    std::size_t eraseAll(ObjectSlot slot) {
-        return eraseAll(slot, [](const std::uint32_t*) {});
+    std::size_t eraseAll(TbvSlotNodes& nodes) {
+        return eraseAll(nodes, [](const std::uint32_t*) {});
     }
 
     /// Nodes in use.
@@ -76,11 +91,22 @@ private:
     struct Node {
         ObjectSlot slot;
         std::uint32_t next, prev; // in the cell's list
-        std::uint32_t slotNext;   // the slot's next node
+        std::uint32_t slotNext;   // the slot's next overflow node (TbvSlotNodes)
         std::uint32_t* head;      // the cell's head word
     };
+
+    /// Takes node n out of its list and onto the free list.
+    template <class OnHead> void unlink(std::uint32_t n, OnHead& onHead) {
+        Node& node = m_nodes[n];
+        onHead(static_cast<const std::uint32_t*>(node.head));
+        if (node.prev == kNone) *node.head = node.next;
+        else m_nodes[node.prev].next = node.next;
+        if (node.next != kNone) m_nodes[node.next].prev = node.prev;
+        node.next = m_free;
+        m_free = n;
+    }
+
     std::vector<Node> m_nodes;
-    std::vector<std::uint32_t> m_slotFirst; // per slot: its first node
     std::uint32_t m_free = kNone;
     std::size_t m_used = 0;
 };

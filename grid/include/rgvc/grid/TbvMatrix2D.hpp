@@ -84,7 +84,7 @@ public:
                     const std::size_t tile = tileRow + std::size_t(t);
                     if (m_tileMark[tile] != m_mark) {
                         m_tileMark[tile] = m_mark;
-                        m_tileLists.add(m_tileHeads[tile], slot);
+                        m_tileLists.add(m_tileHeads[tile], slot, st.nodes);
                         ++n;
                     }
                     anyHot = anyHot || m_tileHot[tile] != 0;
@@ -97,7 +97,7 @@ public:
     /// Removes the slot's region (added with these arguments). Returns the incidences removed. Cost: its
     /// tiles' lists, and its rows only where a tile of it is hot.
     std::size_t erase(ObjectSlot slot, const TbvRegion<2>& /*r*/, TbvDiscretization /*mode*/) {
-        const Stored& st = m_regions[slot];
+        Stored& st = m_regions[slot];
         // Only the tile rows of its box with a hot tile are computed again (a ring around a room, whose
         // tiles along the walls the walk has read, is hot there and nowhere else).
         for (std::int32_t ty = st.tileLo.y; ty <= st.tileHi.y; ++ty) {
@@ -107,7 +107,7 @@ public:
             if (anyHot) updateHotCounts(st, ty, removeOne);
         }
         --m_live;
-        return m_tileLists.eraseAll(slot);
+        return m_tileLists.eraseAll(st.nodes);
     }
     /// Replaces the slot's region (live, inserted with the same mode) by r: erase, then insert (the tile
     /// lists are exact to the ring, so a renewal's tiles change with it; TbvMatrix<3> keeps a renewal's
@@ -115,6 +115,10 @@ public:
     std::size_t renew(ObjectSlot slot, const TbvRegion<2>& r, TbvDiscretization mode) {
         const std::size_t removed = erase(slot, r, mode);
         return removed + insert(slot, r, mode);
+    }
+    /// Asks the processor for the slot's stored region and node indices (a hint, as TbvMatrix<3>'s).
+    void prefetch(ObjectSlot slot) const {
+        if (slot < m_regions.size()) __builtin_prefetch(&m_regions[slot], 1);
     }
     /// Appends the slots whose TBV covers voxel v (in the grid) to out. Writes v's tile's counts first if
     /// they are not yet.
@@ -188,6 +192,7 @@ private:
         TbvRegion<2> region;
         TbvDiscretization mode = TbvDiscretization::Boundary;
         IVec2 tileLo{0}, tileHi{-1}; // the tiles of its voxel box (tbvVoxelBox): every tile its ring crosses
+        TbvSlotNodes nodes;          // its tile lists' nodes
     };
     static constexpr std::size_t kTileArea = std::size_t(1) << (2 * kTileShift);
     static constexpr std::int32_t kTileMask = (1 << kTileShift) - 1;

@@ -90,6 +90,11 @@ public:
         const std::size_t removed = erase(slot, r, mode);
         return removed + insertBox(slot, mode, inGrid, lo, hi);
     }
+    /// Asks the processor for the slot's stored box and node indices (a hint, no effect on results): the
+    /// culler's renewals, in no order of slots, call it a few renewals ahead.
+    void prefetch(ObjectSlot slot) const {
+        if (slot < m_boxes.size()) __builtin_prefetch(&m_boxes[slot], 1);
+    }
     /// The voxel box (tbvVoxelBox) of the slot's region as its last insert computed it; false when the
     /// region lies outside the grid. The per-frame update marks the brick tree with it, so a renewal
     /// converts its region once (tbvVoxelBox was 3 % of the 100k room's frame, computed twice).
@@ -102,13 +107,13 @@ public:
     /// Removes the slot's region. Returns the incidences removed. Its bricks' bitmaps go stale (see above).
     std::size_t erase(ObjectSlot slot, const TbvRegion<3>& /*r*/, TbvDiscretization /*mode*/) {
         --m_live;
-        const Stored& st = m_boxes[slot];
-        if (st.mode == TbvDiscretization::Shell) return m_lists.eraseAll(slot);
+        Stored& st = m_boxes[slot];
+        if (st.mode == TbvDiscretization::Shell) return m_lists.eraseAll(st.nodes);
         // Each node of the slot sits in one brick's or one block's list: its head word says which (no
         // brick parts). Its brick nodes make their bricks stale; its blocks' nodes need nothing.
         const std::uint32_t* heads = m_heads.data();
         const std::size_t bricks = m_heads.size();
-        return m_lists.eraseAll(slot, [&](const std::uint32_t* head) {
+        return m_lists.eraseAll(st.nodes, [&](const std::uint32_t* head) {
             if (head >= heads && head < heads + bricks) {
                 std::uint32_t& state = m_brickState[std::size_t(head - heads)];
                 state = (state - 2u) | 1u; // one node fewer, stale
@@ -260,12 +265,15 @@ private:
 
     std::size_t voxel(const IVec3& v) const { return cellIndex<3>(m_res, v); }
 
-    /// A slot's voxel box, clipped to the grid (inGrid false: none), and how it was written.
-    struct Stored {
+    /// A slot's voxel box, clipped to the grid (inGrid false: none), how it was written, and where its
+    /// nodes are: one cache line, which an erase or a renewal reads once.
+    struct alignas(64) Stored {
         IVec3 lo{0}, hi{-1};
         TbvDiscretization mode = TbvDiscretization::Boundary;
         bool inGrid = false;
+        TbvSlotNodes nodes;
     };
+    static_assert(sizeof(Stored) == 64);
 
     /// insert, with the region's voxel box computed (tbvVoxelBox3D: inGrid, lo, hi).
     std::size_t insertBox(ObjectSlot slot, TbvDiscretization mode, bool inGrid, const IVec3& lo, const IVec3& hi) {
@@ -278,7 +286,7 @@ private:
         ++m_live;
         if (mode == TbvDiscretization::Shell) {
             if (m_voxels.empty()) m_voxels.assign(cellCount<3>(m_res), kNone);
-            return forEachShellVoxel(st, [&](std::uint32_t& head) { m_lists.add(head, slot); });
+            return forEachShellVoxel(st, [&](std::uint32_t& head) { m_lists.add(head, slot, st.nodes); });
         }
         if (m_heads.empty()) {
             const std::size_t n = cellCount<3>(m_bricks);
@@ -304,13 +312,13 @@ private:
                         continue;
                     }
                     anyCold = true;
-                    m_lists.add(m_blockHeads[k], slot);
+                    m_lists.add(m_blockHeads[k], slot, st.nodes);
                     ++n;
                 }
             }
         if (!anyHot) return n;
         auto write = [&](std::size_t brick, const BrickPart& p) {
-            m_lists.add(m_heads[brick], slot);
+            m_lists.add(m_heads[brick], slot, st.nodes);
             m_brickState[brick] += 2u;
             orPart(brick, p);
         };
@@ -493,7 +501,7 @@ private:
         // (add() may grow the pool under forEach: forEach reads each next link by index, after fn.)
         m_lists.forEach(m_blockHeads[block], [&](ObjectSlot s) {
             forEachBrick(m_boxes[s], lo, hi, [&](std::size_t brick, const IVec3&, const BrickPart& p) {
-                m_lists.add(m_heads[brick], s);
+                m_lists.add(m_heads[brick], s, m_boxes[s].nodes);
                 m_brickState[brick] += 2u;
                 orPart(brick, p);
             });
