@@ -53,6 +53,29 @@ inline bool sortedUnique(const std::vector<ObjectId>& ids) {
     return std::adjacent_find(ids.begin(), ids.end(), std::greater_equal<ObjectId>()) == ids.end();
 }
 
+// ---------------------------------------------------------------------------------------------------
+// The sanitized run
+
+/// Whether this test binary runs under AddressSanitizer: the test command's second stage (RGVC_SANITIZE),
+/// which looks for memory errors and undefined behaviour. The first scenes of a randomized case reach
+/// the same code as the last, ten to twenty times slower there, and the Release stage runs every case in
+/// full for misses; so the few heaviest cases (a minute or more each under ASan) run a share of their
+/// scenes, cameras or angles there (sanitizedShare), which keeps the whole test command in its budget.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+inline constexpr bool kSanitized = true;
+#else
+inline constexpr bool kSanitized = false;
+#endif
+#else
+inline constexpr bool kSanitized = false;
+#endif
+
+/// n in the Release run, n / divisor (at least 1) under AddressSanitizer (kSanitized).
+inline constexpr int sanitizedShare(int n, int divisor = 2) { return kSanitized ? std::max(1, n / divisor) : n; }
+
 inline double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }

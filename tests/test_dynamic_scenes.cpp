@@ -32,6 +32,8 @@ namespace sr = rgvc::reference::seeded;
 using rgvc::culler_test::contains;
 using rgvc::culler_test::msSince;
 using rgvc::culler_test::referenceVisible;
+using rgvc::culler_test::kSanitized;
+using rgvc::culler_test::sanitizedShare;
 
 namespace {
 
@@ -532,7 +534,7 @@ TEST_CASE("dynamic: 3D with adaptiveImage: zero misses, the walk's image skipped
           "[dynamics][tbv]") {
     CullerOptions adaptive = withTbv(TbvDiscretization::Boundary);
     adaptive.adaptiveImage = true;
-    runMany<3>("3D adaptive image", 6500, 24, 60, adaptive, 0.05, true);
+    runMany<3>("3D adaptive image", 6500, sanitizedShare(24), 60, adaptive, 0.05, true); // 12 scenes under ASan
     // The small moving-spheres scene: the image hides little there, so most frames walk without it.
     {
         const ref::MovingSpheres3D b = ref::movingSpheres3D(78, 250, {48, 32, 48}, 6, 0.3, 2.5, 0.5);
@@ -545,6 +547,7 @@ TEST_CASE("dynamic: 3D with adaptiveImage: zero misses, the walk's image skipped
         Tally tally;
         Failures fails;
         Session<3> s(w, adaptive, tally, fails);
+        s.referenceEvery = kSanitized ? 2 : 1; // every other frame under ASan (18 s there, kSanitized)
         int skipped = 0;
         for (int f = 0; f < 60; ++f) skipped += s.step().stats.imageSkipped;
         tally.print("3D moving spheres, adaptive image");
@@ -573,7 +576,7 @@ TEST_CASE("dynamic: 3D with adaptiveImage: zero misses, the walk's image skipped
         Tally tally;
         Failures fails;
         Session<3> s(w, adaptive, tally, fails);
-        s.referenceEvery = 6;
+        s.referenceEvery = kSanitized ? 12 : 6; // 19 s under ASan with 6
         int skipped = 0;
         for (int f = 0; f < 60; ++f) skipped += s.step(false).stats.imageSkipped;
         tally.print("3D cloud of large spheres, adaptive image");

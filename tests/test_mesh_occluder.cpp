@@ -131,13 +131,14 @@ TEST_CASE("mesh occluder: no misses on random scenes with closed meshes", "[mesh
     ref::SceneOptions3D opt;
     opt.meshProbability = 0.4;
     opt.polytopeProbability = 0.2;
-    Runs t = randomScenes("meshes", 810001, 100, 3, opt);
+    // Half the scenes under ASan (kSanitized), here and below.
+    Runs t = randomScenes("meshes", 810001, sanitizedShare(100), 3, opt);
     REQUIRE(t.tally.framesWithOcclusion > 0);
     REQUIRE(t.tally.misses == 0);
-    REQUIRE(t.meshes > 100);
+    REQUIRE(t.meshes > std::size_t(sanitizedShare(100)));
     ref::SceneOptions3D snapped = opt;
     snapped.snapProbability = 1.0; // meshes with every face on voxel faces, next to snapped boxes
-    Runs t2 = randomScenes("meshes, snapped", 820001, 60, 3, snapped);
+    Runs t2 = randomScenes("meshes, snapped", 820001, sanitizedShare(60), 3, snapped);
     REQUIRE(t2.tally.misses == 0);
     ref::SceneOptions3D crowded = opt;
     crowded.minResolution = 8;
@@ -145,7 +146,7 @@ TEST_CASE("mesh occluder: no misses on random scenes with closed meshes", "[mesh
     crowded.minObjects = 20;
     crowded.maxObjects = 50;
     crowded.meshProbability = 0.6;
-    Runs t3 = randomScenes("meshes, crowded", 830001, 60, 3, crowded);
+    Runs t3 = randomScenes("meshes, crowded", 830001, sanitizedShare(60), 3, crowded);
     REQUIRE(t3.tally.framesWithOcclusion > 0);
     REQUIRE(t3.tally.misses == 0);
 }

@@ -22,6 +22,7 @@ namespace ref = rgvc::reference;
 namespace sd = rgvc::reference::scene3d_detail;
 using rgvc::culler_test::bufferPass;
 using rgvc::culler_test::kPi;
+using rgvc::culler_test::sanitizedShare;
 
 namespace {
 
@@ -839,7 +840,7 @@ TEST_CASE("buffer: sphere clouds against the exact reference", "[buffer]") {
     const std::uint64_t seed = 424242;
     std::mt19937_64 rng(seed);
     int inView = 0, seenCount = 0, hiddenCount = 0, misses = 0;
-    for (int n = 0; n < 40; ++n) {
+    for (int n = 0; n < sanitizedShare(40); ++n) { // 20 clouds under ASan (kSanitized)
         const Camera3 cam = lookingAlongZ({50, 30, 0}, sd::uniform(rng, 40, 90), sd::uniform(rng, 0.8, 2));
         std::vector<Shape<3>> objects;
         for (int i = 0; i < 400; ++i) {
