@@ -305,8 +305,6 @@ template <int D> struct Culler<D>::Impl {
     void adopt(ObjectSlot slot, const Placement& p);
     void attachTracked(ObjectSlot slot, const Placement& p);
     void attachHidden(ObjectSlot slot, const Placement& p, const TbvRegion<D>& region, std::uint64_t expiry);
-    void renewHidden(ObjectSlot slot, const Placement& p, const TbvRegion<D>& region, std::uint64_t expiry);
-    void markTbv(ObjectSlot slot, const TbvRegion<D>& region);
     const Placement* fetch(ObjectSlot slot, CullStats& st);
     /// Asks the processor to bring a record into the cache (a hint: no effect on results). Loops over
     /// slots in no order (the renewals, the tracked objects, the buffer pass) call it kRecordsAhead ahead:

@@ -158,33 +158,15 @@ void Culler<D>::Impl::attachHidden(ObjectSlot slot, const Placement& p, const Tb
     r.tbv = region;
     r.tbvExpiry = expiry;
     writes += tbvs.insert(slot, region, options.tbvDiscretization);
-    markTbv(slot, region);
+    { // the brick tree must see the TBV (BrickPyramid: marking is eager)
+        IVec<D> lo, hi;
+        bool inGrid;
+        if constexpr (D == 3) inGrid = tbvs.voxelBox(slot, lo, hi); // the box the insert just computed
+        else inGrid = tbvVoxelBox<D>(region, grid.resolution(), lo, hi);
+        if (inGrid) storage.bricks().markOccupied(lo, hi);
+    }
     expiring[expiry % expiring.size()].emplace_back(slot, r.tbvGeneration);
     enter(slot, State::Hidden);
-}
-
-/// A hidden object's expired TBV replaced by a new one around p: what detach and attachHidden do, with
-/// the object staying in the hidden set and T renewing its region in place (TbvMatrix<3>::renew keeps
-/// the T nodes that stay the same).
-template <int D>
-void Culler<D>::Impl::renewHidden(ObjectSlot slot, const Placement& p, const TbvRegion<D>& region, std::uint64_t expiry) {
-    Record& r = records[slot];
-    writes += tbvs.renew(slot, region, options.tbvDiscretization);
-    ++r.tbvGeneration; // its old expiry entry, if any, is now stale
-    adopt(slot, p);
-    r.tbv = region;
-    r.tbvExpiry = expiry;
-    markTbv(slot, region);
-    expiring[expiry % expiring.size()].emplace_back(slot, r.tbvGeneration);
-}
-
-/// The brick tree must see a TBV just written into T (BrickPyramid: marking is eager).
-template <int D> void Culler<D>::Impl::markTbv(ObjectSlot slot, const TbvRegion<D>& region) {
-    IVec<D> lo, hi;
-    bool inGrid;
-    if constexpr (D == 3) inGrid = tbvs.voxelBox(slot, lo, hi); // the box the insert just computed
-    else inGrid = tbvVoxelBox<D>(region, grid.resolution(), lo, hi);
-    if (inGrid) storage.bricks().markOccupied(lo, hi);
 }
 
 /// The object's placement now, asking the application at most once per frame: the stored placement
@@ -233,8 +215,6 @@ template void Culler<2>::Impl::detach(ObjectSlot);
 template void Culler<2>::Impl::adopt(ObjectSlot, const Placement&);
 template void Culler<2>::Impl::attachTracked(ObjectSlot, const Placement&);
 template void Culler<2>::Impl::attachHidden(ObjectSlot, const Placement&, const TbvRegion<2>&, std::uint64_t);
-template void Culler<2>::Impl::renewHidden(ObjectSlot, const Placement&, const TbvRegion<2>&, std::uint64_t);
-template void Culler<2>::Impl::markTbv(ObjectSlot, const TbvRegion<2>&);
 template auto Culler<2>::Impl::fetch(ObjectSlot, CullStats&) -> const Placement*;
 template auto Culler<3>::Impl::makePlacement(const Shape<3>&, double, ObjectRole) const -> Placement;
 template void Culler<3>::Impl::makePlacementInto(Placement&, const Shape<3>&, double, ObjectRole) const;
@@ -249,8 +229,6 @@ template void Culler<3>::Impl::detach(ObjectSlot);
 template void Culler<3>::Impl::adopt(ObjectSlot, const Placement&);
 template void Culler<3>::Impl::attachTracked(ObjectSlot, const Placement&);
 template void Culler<3>::Impl::attachHidden(ObjectSlot, const Placement&, const TbvRegion<3>&, std::uint64_t);
-template void Culler<3>::Impl::renewHidden(ObjectSlot, const Placement&, const TbvRegion<3>&, std::uint64_t);
-template void Culler<3>::Impl::markTbv(ObjectSlot, const TbvRegion<3>&);
 template auto Culler<3>::Impl::fetch(ObjectSlot, CullStats&) -> const Placement*;
 
 } // namespace rgvc

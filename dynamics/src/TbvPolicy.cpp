@@ -179,9 +179,9 @@ template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, std::span<cons
             if (!r.alive || r.state != State::Hidden || r.tbvGeneration != generation || r.tbvExpiry != frameIndex)
                 continue;
             const TbvRegion<D> old = r.tbv;
+            detach(slot);
             const Placement* p = fetch(slot, st);
             if (p == nullptr) {
-                detach(slot);
                 enter(slot, State::Parked);
                 continue;
             }
@@ -193,11 +193,10 @@ template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, std::span<cons
             std::uint64_t expiry = 0;
             if (r.growthLevel > 0) --r.growthLevel; // unrevealed for a whole validity: grow larger again
             if (buildTbv(r, *p, !cameras.empty(), cameras, region, expiry)) {
-                renewHidden(slot, *p, region, expiry); // it stays in `hidden`
+                attachHidden(slot, *p, region, expiry);
                 r.fruitless = 0; // it stayed hidden for a whole validity
                 ++st.tbvsRenewed;
             } else {
-                detach(slot);
                 attachTracked(slot, *p);
                 ++st.tbvsRefused;
             }

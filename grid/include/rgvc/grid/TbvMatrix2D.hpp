@@ -109,13 +109,6 @@ public:
         --m_live;
         return m_tileLists.eraseAll(st.nodes);
     }
-    /// Replaces the slot's region (live, inserted with the same mode) by r: erase, then insert (the tile
-    /// lists are exact to the ring, so a renewal's tiles change with it; TbvMatrix<3> keeps a renewal's
-    /// nodes where they stay the same).
-    std::size_t renew(ObjectSlot slot, const TbvRegion<2>& r, TbvDiscretization mode) {
-        const std::size_t removed = erase(slot, r, mode);
-        return removed + insert(slot, r, mode);
-    }
     /// Asks the processor for the slot's stored region and node indices (a hint, as TbvMatrix<3>'s).
     void prefetch(ObjectSlot slot) const {
         if (slot < m_regions.size()) __builtin_prefetch(&m_regions[slot], 1);

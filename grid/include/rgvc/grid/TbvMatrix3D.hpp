@@ -66,32 +66,60 @@ public:
     /// Adds the slot's region. Returns the T incidences written: brick list nodes and cold blocks' list
     /// nodes (Boundary, Filled) or voxel list nodes (Shell).
     std::size_t insert(ObjectSlot slot, const TbvRegion<3>& r, TbvDiscretization mode) {
-        IVec3 lo, hi;
-        const bool inGrid = tbvVoxelBox3D(r, m_res, lo, hi);
-        return insertBox(slot, mode, inGrid, lo, hi);
-    }
-    /// Replaces the slot's region (live, inserted with the same mode) by r: what erase and then insert do,
-    /// returning the incidences both count. A renewal whose new voxel box meets the same blocks as the
-    /// old one, all of them cold, keeps the slot's nodes and only changes its box: they are already the
-    /// nodes insert would write, one per block the box meets (a block cold now was cold at the insert,
-    /// as blocks never cool, so the slot has no brick node in them), and nothing is unlinked or linked.
-    /// Around a closed room with 100,000 movers outside (rgvc_bench_classes' room-100k), ~9,000 renewals
-    /// a frame unlinked and relinked ~8 block nodes each, every node, its neighbours in their lists and
-    /// its free-list successor a cache miss of their own.
-    std::size_t renew(ObjectSlot slot, const TbvRegion<3>& r, TbvDiscretization mode) {
-        IVec3 lo, hi;
-        const bool inGrid = tbvVoxelBox3D(r, m_res, lo, hi);
+        if (slot >= m_boxes.size()) m_boxes.resize(std::size_t(slot) + 1);
         Stored& st = m_boxes[slot];
-        if (inGrid && st.inGrid && st.mode == mode && mode != TbvDiscretization::Shell && sameColdBlocks(st, lo, hi)) {
-            st.lo = lo;
-            st.hi = hi;
-            return 0;
+        st.mode = mode;
+        st.inGrid = tbvVoxelBox3D(r, m_res, st.lo, st.hi);
+        ++m_live;
+        if (mode == TbvDiscretization::Shell) {
+            if (m_voxels.empty()) m_voxels.assign(cellCount<3>(m_res), kNone);
+            return forEachShellVoxel(st, [&](std::uint32_t& head) { m_lists.add(head, slot, st.nodes); });
         }
-        const std::size_t removed = erase(slot, r, mode);
-        return removed + insertBox(slot, mode, inGrid, lo, hi);
+        if (m_heads.empty()) {
+            const std::size_t n = cellCount<3>(m_bricks);
+            m_heads.assign(n, kNone);
+            m_bits = ZeroedArray<std::uint64_t>(n * kSlices);
+            m_brickState.assign(n, 0);
+            const std::size_t blocks = cellCount<3>(m_blocks);
+            m_blockHeads.assign(blocks, kNone);
+            m_blockHot.assign(blocks, 0);
+        }
+        if (!st.inGrid) return 0;
+        // One node per cold block the box meets; brick nodes only in hot blocks.
+        std::size_t n = 0;
+        bool anyHot = false, anyCold = false;
+        const IVec3 klo = (st.lo >> kBrickShift) >> kBlockShift, khi = (st.hi >> kBrickShift) >> kBlockShift;
+        for (std::int32_t z = klo.z; z <= khi.z; ++z)
+            for (std::int32_t y = klo.y; y <= khi.y; ++y) {
+                const std::size_t row = blockIndex({0, y, z});
+                for (std::int32_t x = klo.x; x <= khi.x; ++x) {
+                    const std::size_t k = row + std::size_t(x);
+                    if (m_blockHot[k] != 0) {
+                        anyHot = true;
+                        continue;
+                    }
+                    anyCold = true;
+                    m_lists.add(m_blockHeads[k], slot, st.nodes);
+                    ++n;
+                }
+            }
+        if (!anyHot) return n;
+        auto write = [&](std::size_t brick, const BrickPart& p) {
+            m_lists.add(m_heads[brick], slot, st.nodes);
+            m_brickState[brick] += 2u;
+            orPart(brick, p);
+        };
+        if (!anyCold) // all hot (where the camera has been): every brick, no test
+            return forEachBrick(st, IVec3(0), m_bricks - 1, [&](std::size_t brick, const IVec3&, const BrickPart& p) { write(brick, p); });
+        forEachBrick(st, IVec3(0), m_bricks - 1, [&](std::size_t brick, const IVec3& bc, const BrickPart& p) {
+            if (m_blockHot[blockOfBrick(bc)] == 0) return;
+            write(brick, p);
+            ++n;
+        });
+        return n;
     }
     /// Asks the processor for the slot's stored box and node indices (a hint, no effect on results): the
-    /// culler's renewals, in no order of slots, call it a few renewals ahead.
+    /// culler's renewals, in no order of slots, call it a few renewals ahead of the erase that reads them.
     void prefetch(ObjectSlot slot) const {
         if (slot < m_boxes.size()) __builtin_prefetch(&m_boxes[slot], 1);
     }
@@ -266,7 +294,7 @@ private:
     std::size_t voxel(const IVec3& v) const { return cellIndex<3>(m_res, v); }
 
     /// A slot's voxel box, clipped to the grid (inGrid false: none), how it was written, and where its
-    /// nodes are: one cache line, which an erase or a renewal reads once.
+    /// nodes are: one cache line, which an erase reads once (and the renewals fetch ahead: prefetch).
     struct alignas(64) Stored {
         IVec3 lo{0}, hi{-1};
         TbvDiscretization mode = TbvDiscretization::Boundary;
@@ -274,76 +302,6 @@ private:
         TbvSlotNodes nodes;
     };
     static_assert(sizeof(Stored) == 64);
-
-    /// insert, with the region's voxel box computed (tbvVoxelBox3D: inGrid, lo, hi).
-    std::size_t insertBox(ObjectSlot slot, TbvDiscretization mode, bool inGrid, const IVec3& lo, const IVec3& hi) {
-        if (slot >= m_boxes.size()) m_boxes.resize(std::size_t(slot) + 1);
-        Stored& st = m_boxes[slot];
-        st.mode = mode;
-        st.inGrid = inGrid;
-        st.lo = lo;
-        st.hi = hi;
-        ++m_live;
-        if (mode == TbvDiscretization::Shell) {
-            if (m_voxels.empty()) m_voxels.assign(cellCount<3>(m_res), kNone);
-            return forEachShellVoxel(st, [&](std::uint32_t& head) { m_lists.add(head, slot, st.nodes); });
-        }
-        if (m_heads.empty()) {
-            const std::size_t n = cellCount<3>(m_bricks);
-            m_heads.assign(n, kNone);
-            m_bits = ZeroedArray<std::uint64_t>(n * kSlices);
-            m_brickState.assign(n, 0);
-            const std::size_t blocks = cellCount<3>(m_blocks);
-            m_blockHeads.assign(blocks, kNone);
-            m_blockHot.assign(blocks, 0);
-        }
-        if (!st.inGrid) return 0;
-        // One node per cold block the box meets; brick nodes only in hot blocks.
-        std::size_t n = 0;
-        bool anyHot = false, anyCold = false;
-        const IVec3 klo = (st.lo >> kBrickShift) >> kBlockShift, khi = (st.hi >> kBrickShift) >> kBlockShift;
-        for (std::int32_t z = klo.z; z <= khi.z; ++z)
-            for (std::int32_t y = klo.y; y <= khi.y; ++y) {
-                const std::size_t row = blockIndex({0, y, z});
-                for (std::int32_t x = klo.x; x <= khi.x; ++x) {
-                    const std::size_t k = row + std::size_t(x);
-                    if (m_blockHot[k] != 0) {
-                        anyHot = true;
-                        continue;
-                    }
-                    anyCold = true;
-                    m_lists.add(m_blockHeads[k], slot, st.nodes);
-                    ++n;
-                }
-            }
-        if (!anyHot) return n;
-        auto write = [&](std::size_t brick, const BrickPart& p) {
-            m_lists.add(m_heads[brick], slot, st.nodes);
-            m_brickState[brick] += 2u;
-            orPart(brick, p);
-        };
-        if (!anyCold) // all hot (where the camera has been): every brick, no test
-            return forEachBrick(st, IVec3(0), m_bricks - 1, [&](std::size_t brick, const IVec3&, const BrickPart& p) { write(brick, p); });
-        forEachBrick(st, IVec3(0), m_bricks - 1, [&](std::size_t brick, const IVec3& bc, const BrickPart& p) {
-            if (m_blockHot[blockOfBrick(bc)] == 0) return;
-            write(brick, p);
-            ++n;
-        });
-        return n;
-    }
-
-    /// Whether voxel box [lo, hi] meets the same blocks as st's, all of them cold.
-    bool sameColdBlocks(const Stored& st, const IVec3& lo, const IVec3& hi) const {
-        const IVec3 klo = (lo >> kBrickShift) >> kBlockShift, khi = (hi >> kBrickShift) >> kBlockShift;
-        if (klo != (st.lo >> kBrickShift) >> kBlockShift || khi != (st.hi >> kBrickShift) >> kBlockShift) return false;
-        for (std::int32_t z = klo.z; z <= khi.z; ++z)
-            for (std::int32_t y = klo.y; y <= khi.y; ++y) {
-                const std::size_t row = blockIndex({0, y, z});
-                for (std::int32_t x = klo.x; x <= khi.x; ++x)
-                    if (m_blockHot[row + std::size_t(x)] != 0) return false;
-            }
-        return true;
-    }
 
     /// Calls fn(head) for every voxel of the outer shell of a stored voxel box; returns the count.
     template <class Fn> std::size_t forEachShellVoxel(const Stored& b, Fn&& fn) {
