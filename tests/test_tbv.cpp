@@ -186,6 +186,46 @@ bool check2D(TbvMatrix<2>& t, const IVec2& res, const std::vector<TbvRegion<2>>&
 
 } // namespace
 
+TEST_CASE("tbv: the list pool keeps every list exact through random adds and erases, inline and chained", "[tbv]") {
+    // TbvSlotNodes: a slot's first kInline nodes by index, the rest chained. Slots get 0 to 20 lists (so
+    // both), are erased and re-added at random; every list must hold exactly the slots added to it since.
+    const std::uint64_t seed = 909;
+    std::mt19937_64 rng(seed);
+    constexpr int kLists = 40, kSlots = 30;
+    std::vector<std::uint32_t> heads(kLists, kNone);
+    std::vector<TbvSlotNodes> nodes(kSlots);
+    std::vector<std::set<int>> model(kLists); // per list: its slots
+    TbvListPool pool;
+    std::size_t chained = 0;
+    for (int op = 0; op < 4000; ++op) {
+        INFO("seed " << seed << " op " << op);
+        const int slot = sr::uniformInt(rng, 0, kSlots - 1);
+        if (nodes[slot].count == 0) {
+            const int n = sr::uniformInt(rng, 0, 20);
+            for (int i = 0; i < n; ++i) {
+                const int list = sr::uniformInt(rng, 0, kLists - 1);
+                if (model[list].insert(slot).second) pool.add(heads[std::size_t(list)], ObjectSlot(slot), nodes[slot]);
+            }
+            chained += nodes[slot].count > TbvSlotNodes::kInline;
+        } else {
+            std::size_t expected = 0, heard = 0;
+            for (std::set<int>& m : model) expected += m.erase(slot);
+            CHECK(pool.eraseAll(nodes[slot], [&](const std::uint32_t*) { ++heard; }) == expected);
+            CHECK(heard == expected);
+            CHECK(nodes[slot].count == 0);
+        }
+        std::size_t total = 0;
+        for (int list = 0; list < kLists; ++list) {
+            std::multiset<int> got;
+            pool.forEach(heads[std::size_t(list)], [&](ObjectSlot s) { got.insert(int(s)); });
+            CHECK(got == std::multiset<int>(model[list].begin(), model[list].end()));
+            total += model[list].size();
+        }
+        REQUIRE(pool.size() == total);
+    }
+    CHECK(chained > 100); // slots past kInline nodes were added and erased
+}
+
 TEST_CASE("tbv: T is not allocated, and holds nothing, until the first insert", "[tbv]") {
     TbvMatrix<2> t2({16, 12});
     TbvMatrix<3> t3({8, 6, 10});
