@@ -165,8 +165,7 @@ static bool clearHiddenVoxels(OcclusionBuffer3D& image, const IVec3& brick, doub
 /// out (leaveOpaqueTbvVoxels) while the camera is a voxel or more inside the grid on every axis: every
 /// point of the open segment from it to x then lies inside the grid. (The 3D walk knows O's voxels from
 /// the rows its fused boxes read: on a frame that walks without the image, none are left out.) Take a
-/// point p of that open segment
-/// every closed voxel holding which holds the TBV in T:
+/// point p of that open segment every closed voxel holding which holds the TBV in T:
 ///   - a boundary TBV (3D): just past y, where the segment enters the shell's box (a voxel holding p then
 ///     holds y, a point of the box's surface: a shell voxel). The box holds the region, x included, with
 ///     a margin except at the grid's faces, so the segment cannot run on the box's surface up to x

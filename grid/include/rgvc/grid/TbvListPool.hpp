@@ -24,7 +24,7 @@ namespace rgvc {
 /// indices in one line let the processor fetch the nodes at once.
 struct TbvSlotNodes {
     static constexpr std::uint32_t kInline = 6;
-    std::uint32_t node[kInline] = {kNone, kNone, kNone, kNone, kNone, kNone};
+    std::uint32_t node[kInline] = {}; // the first min(count, kInline) are the slot's
     std::uint32_t count = 0;        // the slot's nodes
     std::uint32_t overflow = kNone; // its nodes past kInline, chained through Node::slotNext
 };
