@@ -525,7 +525,7 @@ TEST_CASE("culler2d: closed rooms hide everything outside from every camera insi
     const int scenes = sanitizedShare(600), frames = 4; // 300 under ASan: a minute there (kSanitized)
     Tally tally(kCheck);
     std::size_t outsideReported = 0, notEarly = 0, overBudget = 0, failures = 0;
-    std::uint64_t sumVisited = 0, sumRoomArea = 0;
+    std::uint64_t sumVisited = 0, sumRoomArea = 0, sumTbvTests = 0, sumBricks = 0;
     double worstRatio = 0; // voxels visited / (interior + wall voxels)
     std::size_t perKind[3] = {0, 0, 0};
     for (std::uint64_t seed = 700001; seed < 700001 + scenes; ++seed) {
@@ -592,6 +592,8 @@ TEST_CASE("culler2d: closed rooms hide everything outside from every camera insi
             overBudget += !(withinRings && withinBudget);
             sumVisited += r.stats.voxelsVisited;
             sumRoomArea += std::uint64_t(roomArea);
+            sumTbvTests += r.stats.tbvImageTests;
+            sumBricks += r.stats.bricksVisited;
             worstRatio = std::max(worstRatio, double(r.stats.voxelsVisited) / double(roomArea));
             if (reported.empty() && early && withinRings && withinBudget) continue;
             if (++failures > 3) continue;
@@ -614,7 +616,7 @@ TEST_CASE("culler2d: closed rooms hide everything outside from every camera insi
     std::cout << "[culler2d] closed rooms" << (hierarchical ? " (bricks): " : " (chess rings): ") << perKind[0] << " / " << perKind[1] << " / " << perKind[2]
               << " scenes with one box per wall / thick fractional walls / unit boxes, " << frames << " frames each; "
               << "voxels visited per room voxel (interior + walls): pooled " << double(sumVisited) / double(sumRoomArea)
-              << ", worst " << worstRatio << "\n";
+              << ", worst " << worstRatio << "; TBV voxel tests per visited brick " << double(sumTbvTests) / double(std::max<std::uint64_t>(sumBricks, 1)) << "\n";
     std::cout << "[culler2d] closed rooms" << (hierarchical ? " (bricks)" : " (chess rings)") << ": outside objects reported " << outsideReported << ", frames without early termination "
               << notEarly << ", over the ring or voxel budget " << overBudget << "\n";
     REQUIRE(tally.frames == std::size_t(scenes * frames));

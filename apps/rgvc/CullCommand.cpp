@@ -243,6 +243,7 @@ ojson statsJson(const CullStats& s) {
     j["nodes_hidden"] = s.nodesHidden;
     j["bricks_visited"] = s.bricksVisited;
     j["image_hidden"] = s.imageHidden;
+    j["tbv_image_tests"] = s.tbvImageTests;
     j["image_skipped"] = s.imageSkipped;
     j["placement_queries"] = s.placementQueries;
     j["tracked_objects"] = s.trackedObjects;

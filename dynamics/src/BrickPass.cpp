@@ -1,7 +1,8 @@
-// Culler<D>::Impl, CullerOptions::hierarchical: the brick-tree walk with its occlusion image
-// (traverseBricks, over BrickTraversal3D.hpp and BrickTraversal2D.hpp) and the per-object verdict it
-// gives (classify).
+// Culler<D>::Impl, CullerOptions::hierarchical: the 3D brick-tree walk with its occlusion image
+// (traverseBricks, over BrickTraversal3D.hpp; the 2D walk is BrickPass2D.cpp) and the per-object verdict
+// both walks give (classify, finishWalk).
 #include "CullerImpl.hpp"
+#include "TbvVoxelTests.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -89,69 +90,6 @@ void Culler<D>::Impl::classify(ViewScratch<S>& vs, ObjectSlot slot, const View& 
 
 template <int D> void Culler<D>::Impl::classify(ObjectSlot slot) { classify(main, slot, *main.view); }
 
-/// Clears from `held` (a brick's voxels as slice words: bit x + 8 y of slice z) the voxels the image
-/// hides, coarse to fine along the brick's octree: the bounding box of the held voxels of the brick,
-/// then of each held octant of 4^3, of 2^3, and last each voxel. A box hidden as a whole hides every
-/// voxel in it; a failed test sends its voxels to the next level. Every level is tested with hidden()'s
-/// refinement, which for a box is the exact per-pixel test (hiddenBoxExact: each pixel against the
-/// nearest entry its own rays can have). Without it a box's pixels are compared with the box's single
-/// nearest distance, and a box just behind a wall seen at an angle fails on the pixels where the wall
-/// is crossed farther out than the box's nearest corner: on the closed rooms 37 % of the 2^3 tests and
-/// 43 % of the 4^3 ones failed so, each sending up to 8 tests down, while their voxels were hidden.
-/// With the refinement at every level the rooms' frames fell by 17 % (1k movers) and 26 % (10k) in
-/// callgrind, with the same reveals; elsewhere within 0.5 %. (The octant tests were coarse when the
-/// refinement split boxes into 8 parts, which the next level already does.)
-/// A voxel whose own test fails goes to onVisible(brick-local voxel, held), which may clear voxels
-/// from `held` (those whose TBVs it has already taken for revealing: they would reveal nothing more);
-/// later tests read `held` afresh. Sound whatever the outcome: only a hidden test clears a voxel by
-/// itself. Returns whether any voxel is left.
-/// Why: behind a closed wall the held voxels of a brick are hidden together (the room's movers: half of
-/// the bricks' sets by the first test), and where a wall crosses a brick the octants on its far side
-/// are, so the tests follow the wall's area in the brick, not its volume. Each test costs a footprint
-/// (about a thousand instructions).
-template <class OnVisible>
-static bool clearHiddenVoxels(OcclusionBuffer3D& image, const IVec3& brick, double slack, std::uint64_t held[8],
-                              OnVisible&& onVisible) {
-    const IVec3 o = brick * 8;
-    // held restricted to the cube c .. c + size - 1 (brick-local), as slice words.
-    auto cubeMask = [](const IVec3& c, int size, int z) -> std::uint64_t {
-        if (z < c.z || z >= c.z + size) return 0;
-        const std::uint64_t row = ((std::uint64_t(1) << size) - 1) << c.x;
-        std::uint64_t m = 0;
-        for (int y = c.y; y < c.y + size; ++y) m |= row << (8 * y);
-        return m;
-    };
-    auto visit = [&](auto& self, const IVec3& c, int size) -> void {
-        std::uint64_t m[8];
-        IVec3 lo{8}, hi{-1};
-        for (int z = c.z; z < c.z + size; ++z) {
-            m[z] = held[z] & cubeMask(c, size, z);
-            for (std::uint64_t bits = m[z]; bits != 0; bits &= bits - 1) {
-                const int b = std::countr_zero(bits);
-                lo = glm::min(lo, IVec3{b & 7, b >> 3, z});
-                hi = glm::max(hi, IVec3{b & 7, b >> 3, z});
-            }
-        }
-        if (hi.x < 0) return; // none held here
-        const Box<3> box{Vec3(o + lo), Vec3(o + hi + 1)};
-        const bool one = lo == hi;
-        if (image.hidden(box, slack)) {
-            for (int z = c.z; z < c.z + size; ++z) held[z] &= ~m[z];
-            return;
-        }
-        if (one || size == 1) {
-            onVisible(lo, held);
-            return;
-        }
-        const int h = size / 2;
-        for (int k = 0; k < 8; ++k) self(self, c + IVec3{(k & 1) * h, ((k >> 1) & 1) * h, ((k >> 2) & 1) * h}, h);
-    };
-    visit(visit, IVec3{0}, 8);
-    for (int z = 0; z < 8; ++z)
-        if (held[z] != 0) return true;
-    return false;
-}
-
 /// CullerOptions::hierarchical: the brick-tree walk (BrickTraversal3D.hpp) with the occlusion image.
 /// Ids met in visited voxels are classified (classify); a TBV met in a visited voxel that the image
 /// does not hide is revealed. Why that reveals every TBV it must: a ray from the camera (outside every
@@ -159,32 +97,9 @@ static bool clearHiddenVoxels(OcclusionBuffer3D& image, const IVec3& brick, doub
 /// through a point y of its boundary before x; y is visible (its open segment is part of x's), so the
 /// voxel of y (a boundary voxel: T holds it) touches the view, lies in a brick the tree visits (every
 /// node holding y is occupied, touches the view and is not hidden), and is not hidden in the image.
-/// Objects reaching outside the grid are classified too: the image's facts hold for any point.
-///
-/// With `occlusion` (without it the PVS holds every object in view), T's voxels that O fills are left
-/// out (leaveOpaqueTbvVoxels) while the camera is a voxel or more inside the grid on every axis: every
-/// point of the open segment from it to x then lies inside the grid. (The 3D walk knows O's voxels from
-/// the rows its fused boxes read: on a frame that walks without the image, none are left out.) Take a
-/// point p of that open segment every closed voxel holding which holds the TBV in T:
-///   - a boundary TBV (3D): just past y, where the segment enters the shell's box (a voxel holding p then
-///     holds y, a point of the box's surface: a shell voxel). The box holds the region, x included, with
-///     a margin except at the grid's faces, so the segment cannot run on the box's surface up to x
-///     without lying in a face of the grid, where the camera is not;
-///   - a filled TBV: just before x;
-///   - 2D: where the segment crosses the ring's circle, or just before x when that is x (every voxel
-///     touching the circle, for a filled TBV the disc, is in T).
-/// Were all of p's voxels opaque, they would cover a neighbourhood of p (p lies inside the grid), and each
-/// lies in an object other than the hidden one (O holds the inner voxels of the objects at their current
-/// placements; a hidden object has none): p would be interior to the union of the other objects, and x
-/// hidden. So one of them is not opaque, and as p is visible it is visited and not hidden, as y's voxel
-/// above: the TBV is revealed. (A TBV that ends in a wall, a building or the ground was revealed by its
-/// voxels there in every frame it lasted, with nothing to see behind them: the 100k room revealed 148
-/// TBVs a frame, 106 now.)
-template <int D> bool leaveOpaqueTbvVoxels(const Vec<D>& apex, const IVec<D>& res) {
-    for (int a = 0; a < D; ++a)
-        if (!(apex[a] >= 1.0 && apex[a] <= double(res[a]) - 1.0)) return false;
-    return true;
-}
+/// Objects reaching outside the grid are classified too: the image's facts hold for any point. With
+/// `occlusion`, T's voxels that O fills are left out while the camera is a voxel or more inside the grid
+/// (leaveOpaqueTbvVoxels, TbvVoxelTests.hpp, which shows that the TBV is revealed all the same).
 
 template <int D>
 template <class S>
@@ -258,7 +173,7 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
                     }
                     for (std::size_t z = 0; z < 8; ++z) h[z] &= rest[z];
                 };
-                if (vs.imageActive && !clearHiddenVoxels(image, brick, view.slack(), held, onVisible) && revealScratch.empty())
+                if (vs.imageActive && !clearHiddenVoxels<3>(image, brick, view.slack(), held, st.tbvImageTests, onVisible) && revealScratch.empty())
                     return;
                 // Without the image every visited voxel that holds a TBV reveals it; with it, what the
                 // callback left (nothing, unless a voxel's slots were all taken already).
@@ -271,7 +186,7 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
                 }
             } else {
                 // A Shell TBV exists: its voxel lists answer voxel by voxel.
-                if (vs.imageActive && !clearHiddenVoxels(image, brick, view.slack(), held, [](const IVec3&, std::uint64_t*) {})) return;
+                if (vs.imageActive && !clearHiddenVoxels<3>(image, brick, view.slack(), held, st.tbvImageTests, [](const IVec3&, std::uint64_t*) {})) return;
                 for (int z = 0; z < 8; ++z)
                     for (std::uint64_t bits = held[z]; bits != 0; bits &= bits - 1) {
                         const int b = std::countr_zero(bits);
@@ -451,69 +366,17 @@ bool Culler<D>::Impl::boxPairHolds(VoxelKey seed, const IVec<D>& lo, const IVec<
     return true; // what is left lies in A
 }
 
-/// CullerOptions::traversalImageBins = 0: bins of this width [radians] over the view, within the limits.
-/// A closed room's corner, seen from up to ~60 voxels, spans ~1/60 rad: a bin straddling the corner is
-/// covered when both its rays pass through the corner's voxels (shared by both walls' fused boxes), so
-/// bins well under that width (0.002 rad: 786 bins at 90 degrees, 3,142 for the full circle) close it.
-constexpr double kAutoBinWidth = 0.002;
-constexpr int kAutoMinBins = 64;
-
-/// CullerOptions::hierarchical, 2D: the quadtree walk (BrickTraversal2D.hpp) with the angular image.
-/// Ids met in visited voxels are classified; a TBV met in a visited voxel that the image does not hide
-/// is revealed, by the argument of the 3D version above (a ray to a visible point of a hidden object
-/// enters the TBV's disc through a visible point of its boundary ring, whose voxel T holds; T's voxels
-/// that O fills are left out on the same conditions).
-template <int D>
-template <class S>
-void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewWedge& view, CullStats& st) requires(D == 2) {
-    int bins = options.traversalImageBins;
-    if (bins == 0) {
-        const double want = std::ceil((view.isFullCircle() ? 2 * std::numbers::pi : view.fov()) / kAutoBinWidth);
-        bins = int(std::clamp(want, double(kAutoMinBins), double(OcclusionBuffer2D::kMaxBins)));
-    }
-    OcclusionBuffer2D& image = vs.traversalImage;
-    vs.imageActive = options.occlusion && image.begin(view, bins);
-    st.tbvLookupsSkipped = tbvs.liveRegions() == 0;
-    const bool leaveOpaque = options.occlusion && leaveOpaqueTbvVoxels<2>(view.apex(), grid.resolution()); // (the 3D walk's)
-    const BrickTraversalStats2D ts = vs.brickTraversal.run(
-        grid, *vs.storage, view, vs.imageActive ? &image : nullptr, vs.stamp,
-        [&](const IVec2& brick) { return tbvs.mayHoldTile(brick); },
-        [&](VoxelKey key, const IVec2&) {
-            storage.forEachId(key, [&](ObjectSlot slot) { // (the stamp checked here, as in 3D)
-                if (vs.classifiedStamp[slot] != vs.stamp) classify(vs, slot, view);
-            });
-        },
-        [&](const IVec2& brick, const std::uint8_t inView[8], auto&& opaqueRow) {
-            // The counts first (a row of the brick's tile in one read), then the image, then the tile's
-            // list: next to a wall, the walk reads bricks whose outer voxels are crossed by many TBV
-            // rings, all of them hidden. (Voxel by voxel, the counts' addresses were 5 % of the 2D random
-            // scenes' instructions.)
-            static_assert(BrickPyramid<2>::kBrickSize == 1 << TbvMatrix<2>::kTileShift, "a brick is one of T's tiles");
-            const IVec2 o = brick * BrickPyramid<2>::kBrickSize;
-            for (int row = 0; row < BrickPyramid<2>::kBrickSize; ++row) {
-                std::uint32_t bits = inView[row] & tbvs.mayHoldRow(brick, row);
-                if (bits != 0 && leaveOpaque) bits &= ~opaqueRow(row); // (a row with voxels in view: in the grid)
-                for (; bits != 0; bits &= bits - 1) {
-                    const IVec2 v{o.x + std::countr_zero(bits), o.y + row};
-                    if (vs.imageActive && image.hidden(Box<2>{Vec2(v), Vec2(v) + 1.0}, view.slack())) continue;
-                    vs.revealScratch.clear();
-                    tbvs.collectAt(v, vs.revealScratch);
-                    // Revealing erases from T: collected first, revealed after.
-                    for (ObjectSlot slot : vs.revealScratch)
-                        if (records[slot].state == State::Hidden) tbvMet(vs, slot, st);
-                }
-            }
-        },
-        [&](VoxelKey seed, const IVec2& lo, const IVec2& hi) { return boxObjectHolds(seed, lo, hi); });
-    finishWalk(vs, view, st, ts.voxelsVisited, ts.nodesVisited, ts.nodesEmpty, ts.nodesHidden, ts.bricksVisited, ts.fusedBoxes);
-}
-
 template void Culler<2>::Impl::classify(ObjectSlot);
 template void Culler<3>::Impl::classify(ObjectSlot);
 template bool Culler<2>::Impl::boxObjectHolds(VoxelKey, const IVec<2>&, const IVec<2>&) const;
 template bool Culler<3>::Impl::boxObjectHolds(VoxelKey, const IVec<3>&, const IVec<3>&) const;
-template void Culler<2>::Impl::traverseBricks(Culler<2>::Impl::MainScratch&, const ViewWedge&, CullStats&);
-template void Culler<2>::Impl::traverseBricks(Culler<2>::Impl::SharedScratch&, const ViewWedge&, CullStats&);
+// (the 2D walk, BrickPass2D.cpp, classifies and finishes with these)
+template void Culler<2>::Impl::classify(Culler<2>::Impl::MainScratch&, ObjectSlot, const ViewWedge&, bool);
+template void Culler<2>::Impl::classify(Culler<2>::Impl::SharedScratch&, ObjectSlot, const ViewWedge&, bool);
+template void Culler<2>::Impl::finishWalk(Culler<2>::Impl::MainScratch&, const ViewWedge&, CullStats&, std::uint64_t,
+                                          std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t);
+template void Culler<2>::Impl::finishWalk(Culler<2>::Impl::SharedScratch&, const ViewWedge&, CullStats&, std::uint64_t,
+                                          std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t);
 template void Culler<3>::Impl::traverseBricks(Culler<3>::Impl::MainScratch&, const ViewFrustum&, CullStats&);
 template void Culler<3>::Impl::traverseBricks(Culler<3>::Impl::SharedScratch&, const ViewFrustum&, CullStats&);
 

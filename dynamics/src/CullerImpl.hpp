@@ -3,7 +3,8 @@
 //   Culler.cpp       the public members and the per-frame driver (cull, nextFrame, scheduleCaps)
 //   ObjectTable.cpp  placements, rasterization into I and O, the objects' states (attach, detach, fetch)
 //   TbvPolicy.cpp    temporal bounding volumes: buildTbv, updateScene, reveal, revealDuringTraversal
-//   BrickPass.cpp    CullerOptions::hierarchical: traverseBricks and classify
+//   BrickPass.cpp    CullerOptions::hierarchical: traverseBricks (3D) and classify
+//   BrickPass2D.cpp  CullerOptions::hierarchical: traverseBricks (2D)
 //   BufferPass.cpp   the occlusion buffer's pass over the grid's PVS (refineWithBuffer)
 //   ViewPass.cpp     one view's pass of a frame (cullView) and several views per frame (cullViews)
 //

@@ -196,6 +196,7 @@ struct CullStats {
     std::uint64_t nodesHidden = 0;        ///< of those, skipped as hidden behind the occlusion image
     std::uint64_t bricksVisited = 0;      ///< 8x8x8 bricks whose voxels were read
     std::uint32_t imageHidden = 0;        ///< objects met in visited bricks that the traversal's image hid
+    std::uint64_t tbvImageTests = 0;      ///< visited voxels' boxes holding TBVs tested against that image (each brick's octree, 2D quadtree)
     std::uint32_t orthoTbvBoxTests = 0;   ///< orthographic occlusion: hidden objects whose TBV box was tested (all of them)
 };
 
