@@ -141,6 +141,7 @@ template <int D> struct Culler<D>::Impl {
         std::uint64_t holdUntil = 0;
         std::uint8_t fruitless = 0;
         std::uint8_t growthLevel = 0;   // its TBVs grow by tbvMaxGrowth / 2^growthLevel (see updateScene)
+        std::uint8_t cleanRenewals = 0; // validities lived out unrevealed since growthLevel last changed
         TbvRegion<D> tbv;
         std::uint64_t tbvExpiry = 0;    // first frame the TBV no longer covers
         std::uint32_t tbvGeneration = 0;

@@ -271,7 +271,7 @@ struct CullerOptions {
     std::uint32_t tbvMaxFrames = 1024;
     /// [Voxels] [Limit] finite, >= 0. A TBV's radius grows by at most this over its validity: slow objects
     /// get long validities, fast ones short. An object whose TBV is revealed while it stays hidden gets
-    /// half the growth next time (down to 1/16), and back up after a validity unrevealed. 0 picks the
+    /// half the growth next time (down to 1/16), and back up after two validities unrevealed. 0 picks the
     /// measured default: 32 in 2D, where a renewal writes contiguous runs of a ring whose length grows
     /// only linearly with the radius, so fewer, larger renewals win (README, "Dynamic scenes"); 4 in 3D
     /// with `hierarchical`, where T writes a list node per 8^3 brick the cube's shell reaches, a number
