@@ -308,13 +308,19 @@ double OcclusionBuffer2D::planeEntry(double ux, double uy, double scale) const {
     return tEnter * (1 + mEnter) + kRelMargin * scale;
 }
 
-template <class Fill> void OcclusionBuffer2D::drawRuns(double x0, double x1, Fill&& fill) {
+template <class Fill> void OcclusionBuffer2D::drawRuns(double x0, double x1, double nearest, Fill&& fill) {
     std::uint64_t covered = 0;
     double* e = m_entries.data();
     forEachRun(x0, x1, [&](int i0, int i1) {
+        double* depth = m_depth.data();
+        // The bins already covered at `nearest` or nearer are left out at both ends of the run: no entry of
+        // the occluder is nearer, so it cannot lower them (an object partly behind nearer ones draws only
+        // where it can still hide something, as the 3D image's rows do).
+        while (i0 <= i1 && !(depth[i0] > nearest)) ++i0;
+        if (i0 > i1) return true;
+        while (!(depth[i1] > nearest)) --i1; // stops at i0
         // The boundary rays' entries first (one vectorizable loop per shape kind), then the bins.
         fill(i0, i1 + 1, e);
-        double* depth = m_depth.data();
         for (int i = i0; i <= i1; ++i) { // branch-free: vectorized
             const bool in = (e[i] >= 0) & (e[i + 1] >= 0); // both boundary rays pass through the interior
             covered += in;
@@ -347,7 +353,8 @@ void OcclusionBuffer2D::draw(const Shape<2>& shape, double shrink) {
         const double* ry = m_rayY.data();
         // (The extent only selects the bins to try: each boundary ray is tested exactly. Padded as the
         // occludees' extents, so that fastAtan2's error drops no bin.)
-        drawRuns(x - beta - kAnglePad, x + beta + kAnglePad, [&](int i0, int i1, double* out) {
+        // Every entry written is at least the disc's nearest distance l - rho (drawRuns' trimmed ends).
+        drawRuns(x - beta - kAnglePad, x + beta + kAnglePad, (l - rho) * (1 - 1e-6), [&](int i0, int i1, double* out) {
             for (int i = i0; i <= i1; ++i) { // branch-free (the square root of a ray that misses is unused)
                 const double cd = c.x * rx[i] + c.y * ry[i], cr = std::abs(c.x * ry[i] - c.y * rx[i]);
                 const bool in = (cd > 0) & (cr < crLimit);
@@ -416,6 +423,9 @@ void OcclusionBuffer2D::draw(const Shape<2>& shape, double shrink) {
     if (holdsApex) return;
     const double* rx = m_rayX.data();
     const double* ry = m_rayY.data();
+    // Every entry written is at least the nearest distance of the shrunk bounding box (drawRuns' trimmed
+    // ends): the entries are computed with their margins on the large side.
+    const double nearest = std::sqrt(lengthSquared<2>(glm::clamp(Vec2(0.0), lo + s, hi - s))) * (1 - 1e-6);
     // A box whose four edge lines all miss the camera: planeEntry over its four half-planes, branch-free
     // (it was a quarter of the instructions of rgvc_bench_classes' 2D box city). The same arithmetic in
     // the same order, so the same entries: along x, the planes x < X1 and -x < -X0 give the bounds X1 / ux
@@ -427,7 +437,7 @@ void OcclusionBuffer2D::draw(const Shape<2>& shape, double shrink) {
     const double X0 = -m_planes[1].h, X1 = m_planes[0].h, Y0 = -m_planes[3].h, Y1 = m_planes[2].h;
     if (std::holds_alternative<Box<2>>(shape) && X0 != 0 && X1 != 0 && Y0 != 0 && Y1 != 0) {
         const double absMargin = kRelMargin * scale * 1e-3, absPad = kRelMargin * scale;
-        drawRuns(x0, x1, [&](int i0, int i1, double* out) {
+        drawRuns(x0, x1, nearest, [&](int i0, int i1, double* out) {
             for (int i = i0; i <= i1; ++i) {
                 const double ux = rx[i], uy = ry[i];
                 const double xa = X0 / ux, xb = X1 / ux, ya = Y0 / uy, yb = Y1 / uy;
@@ -442,7 +452,7 @@ void OcclusionBuffer2D::draw(const Shape<2>& shape, double shrink) {
         });
         return;
     }
-    drawRuns(x0, x1, [&](int i0, int i1, double* out) {
+    drawRuns(x0, x1, nearest, [&](int i0, int i1, double* out) {
         for (int i = i0; i <= i1; ++i) out[i] = planeEntry(rx[i], ry[i], scale);
     });
 }

@@ -111,7 +111,7 @@ struct OcclusionBuffer2DStats {
     std::uint32_t occludersDrawn = 0; ///< draw() calls that covered at least one bin
     std::uint32_t tested = 0;         ///< hidden() calls while active
     std::uint32_t hidden = 0;         ///< of those, answered true
-    std::uint64_t binsCovered = 0;    ///< bins an occluder covered (depth lowered or not)
+    std::uint64_t binsCovered = 0;    ///< bins an occluder covered, of those not already covered nearer than it can reach
 };
 
 class OcclusionBuffer2D {
@@ -186,7 +186,8 @@ private:
     double planeEntry(double ux, double uy, double scale) const;
     /// Draws over the runs of [x0, x1]: fill(i0, i1, out) writes out[i], for boundary rays i0..i1, the entry
     /// distance along ray i, or < 0 where the ray does not pass through the occluder's interior.
-    template <class Fill> void drawRuns(double x0, double x1, Fill&& fill);
+    /// nearest: a lower bound of every entry fill writes (bins covered that near are skipped).
+    template <class Fill> void drawRuns(double x0, double x1, double nearest, Fill&& fill);
 
     Vec2 m_apex{0.0}, m_dir{1.0, 0.0};
     double m_half = 0, m_span = 0, m_binW = 0;
