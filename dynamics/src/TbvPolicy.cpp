@@ -79,9 +79,6 @@ template <int D> bool Culler<D>::Impl::reveal(ObjectSlot slot, CullStats& st) {
     return true;
 }
 
-/// Scene discretization of one frame (§4.1), before the traversal. cameraIn: new TBVs may be made (every
-/// camera of the frame is a perspective one inside the grid); cameras: the voxels of the frame's
-/// perspective cameras inside the grid, whose traversals rely on §4.1's camera condition.
 /// Validities lived out unrevealed, in a row, after which a TBV's growth doubles back (Record::growthLevel).
 /// Why not one: an object that stays near an occluder (a mover outside a room's wall) alternated between
 /// two growths, the larger revealed through the wall each time it came back and the smaller living out its
@@ -90,6 +87,10 @@ template <int D> bool Culler<D>::Impl::reveal(ObjectSlot slot, CullStats& st) {
 /// 6.5–7.7 % less time (the paper's spheres 3–5 %, the 100k room 4 %, the others within their noise,
 /// |PVS| the same); four measured the same as two.
 constexpr int kCleanRenewalsToGrow = 2;
+
+/// Scene discretization of one frame (§4.1), before the traversal. cameraIn: new TBVs may be made (every
+/// camera of the frame is a perspective one inside the grid); cameras: the voxels of the frame's
+/// perspective cameras inside the grid, whose traversals rely on §4.1's camera condition.
 template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, std::span<const IVec<D>> cameras, CullStats& st) {
     if (!options.temporalBoundingVolumes) { // the baseline: every moving object re-placed every frame
         for (std::size_t i = 0; i < tracked.size();) {
@@ -200,7 +201,8 @@ template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, std::span<cons
             if (!ballInside(boundingBall<D>(p->local), grown) || brokePromise(*p)) ++st.speedViolations;
             TbvRegion<D> region;
             std::uint64_t expiry = 0;
-            if (r.growthLevel > 0 && ++r.cleanRenewals >= kCleanRenewalsToGrow) { // unrevealed long enough: grow larger again
+            // Unrevealed for kCleanRenewalsToGrow validities in a row: grow larger again.
+            if (r.growthLevel > 0 && ++r.cleanRenewals >= kCleanRenewalsToGrow) {
                 --r.growthLevel;
                 r.cleanRenewals = 0;
             }

@@ -16,13 +16,13 @@ namespace rgvc {
 /// PVS holds every object in view), while the camera (apex) is a voxel or more inside the grid on every
 /// axis. A walk reveals a hidden object's TBV when a visible point x of the object exists (BrickPass.cpp,
 /// traverseBricks: the ray to x enters the TBV's region through a visible point y of its boundary). With
-/// the camera so far inside, every point of the open segment from it to x lies inside the grid. (The 3D walk knows O's voxels from
-/// the rows its fused boxes read: on a frame that walks without the image, none are left out.) Take a
-/// point p of that open segment every closed voxel holding which holds the TBV in T:
+/// the camera so far inside, every point of the open segment from it to x lies inside the grid. (The 3D
+/// walk knows O's voxels from the rows its fused boxes read: on a frame that walks without the image, none
+/// are left out.) Take a point p of that open segment every closed voxel holding which holds the TBV in T:
 ///   - a boundary TBV (3D): just past y, where the segment enters the shell's box (a voxel holding p then
-///     holds y, a point of the box's surface: a shell voxel). The box holds the region, x included, with
-///     a margin except at the grid's faces, so the segment cannot run on the box's surface up to x
-///     without lying in a face of the grid, where the camera is not;
+///     holds y, a point of the box's surface: a shell voxel). The box holds the region, x included, with a
+///     margin except at the grid's faces, so the segment cannot run on the box's surface up to x without
+///     lying in a face of the grid, where the camera is not;
 ///   - a filled TBV: just before x;
 ///   - 2D: where the segment crosses the ring's circle, or just before x when that is x (every voxel
 ///     touching the circle, for a filled TBV the disc, is in T).
@@ -31,36 +31,37 @@ namespace rgvc {
 /// placements; a hidden object has none): p would be interior to the union of the other objects, and x
 /// hidden. So one of them is not opaque, and as p is visible it is visited and not hidden, as y's voxel
 /// above: the TBV is revealed. (A TBV that ends in a wall, a building or the ground was revealed by its
-/// voxels there in every frame it lasted, with nothing to see behind them: the 100k room revealed 148
-/// TBVs a frame, 106 now.)
+/// voxels there in every frame it lasted, with nothing to see behind them: the 100k room revealed 148 TBVs
+/// a frame, 106 now.)
 template <int D> bool leaveOpaqueTbvVoxels(const Vec<D>& apex, const IVec<D>& res) {
     for (int a = 0; a < D; ++a)
         if (!(apex[a] >= 1.0 && apex[a] <= double(res[a]) - 1.0)) return false;
     return true;
 }
 
-/// Clears from `held` (a brick's voxels as slice words: bit x + 8 y of slice z; in 2D one word, bit x + 8 y)
-/// the voxels the image hides, coarse to fine along the brick's octree (quadtree in 2D): the bounding box of
-/// the held voxels of the brick, then of each held octant of 4^D, of 2^D, and last each voxel. A box hidden
-/// as a whole hides every voxel in it; a failed test sends its voxels to the next level (`tests` counts
-/// them: CullStats::tbvImageTests). In 3D every level is tested with hidden()'s refinement, which for a
-/// box is the exact per-pixel test (hiddenBoxExact: each pixel against the nearest entry its own rays can
-/// have). Without it a box's pixels are compared with the box's single nearest distance, and a box just behind a wall seen at an angle fails on the pixels where
-/// the wall is crossed farther out than the box's nearest corner: on the closed rooms 37 % of the 2^3
-/// tests and 43 % of the 4^3 ones failed so, each sending up to 8 tests down, while their voxels were
-/// hidden. With the refinement at every level the rooms' frames fell by 17 % (1k movers) and 26 % (10k) in
-/// callgrind, with the same reveals; elsewhere within 0.5 %. (The octant tests were coarse when the
-/// refinement split boxes into 8 parts, which the next level already does.)
-/// A voxel whose own test fails goes to onVisible(brick-local voxel, held), which may clear voxels
-/// from `held` (those whose TBVs it has already taken for revealing: they would reveal nothing more);
-/// later tests read `held` afresh. Sound whatever the outcome: only a hidden test clears a voxel by
-/// itself, and a hidden box has no point in view that is visible. Returns whether any voxel is left.
-/// Why: behind a closed wall the held voxels of a brick are hidden together (the room's movers: half of
-/// the bricks' sets by the first test), and where a wall crosses a brick the octants on its far side
-/// are, so the tests follow the wall's area in the brick, not its volume. Each test costs a footprint
-/// (about a thousand instructions in 3D). The 2D walk tested the TBV rings crossing the bricks outside a
-/// room's walls voxel by voxel: two thirds of the 2D room's walk (rgvc_bench_classes' room2d), whose
-/// frames now take 10 % fewer instructions (README, "Scene classes").
+/// Clears from `held` (a brick's voxels as slice words: bit x + 8 y of slice z; in 2D one word, bit
+/// x + 8 y) the voxels the image hides, coarse to fine along the brick's octree (quadtree in 2D): the
+/// bounding box of the held voxels of the brick, then of each held octant of 4^D, of 2^D, and last each
+/// voxel. A box hidden as a whole hides every voxel in it; a failed test sends its voxels to the next level
+/// (`tests` counts them: CullStats::tbvImageTests). In 3D every level is tested with hidden()'s refinement,
+/// which for a box is the exact per-pixel test (hiddenBoxExact: each pixel against the nearest entry its
+/// own rays can have). Without it a box's pixels are compared with the box's single nearest distance, and a
+/// box just behind a wall seen at an angle fails on the pixels where the wall is crossed farther out than
+/// the box's nearest corner: on the closed rooms 37 % of the 2^3 tests and 43 % of the 4^3 ones failed so,
+/// each sending up to 8 tests down, while their voxels were hidden. With the refinement at every level the
+/// rooms' frames fell by 17 % (1k movers) and 26 % (10k) in callgrind, with the same reveals; elsewhere
+/// within 0.5 %. (The octant tests were coarse when the refinement split boxes into 8 parts, which the next
+/// level already does.)
+/// A voxel whose own test fails goes to onVisible(brick-local voxel, held), which may clear voxels from
+/// `held` (those whose TBVs it has already taken for revealing: they would reveal nothing more); later
+/// tests read `held` afresh. Sound whatever the outcome: only a hidden test clears a voxel by itself, and a
+/// hidden box has no point in view that is visible. Returns whether any voxel is left.
+/// Why: behind a closed wall the held voxels of a brick are hidden together (the room's movers: half of the
+/// bricks' sets by the first test), and where a wall crosses a brick the octants on its far side are, so
+/// the tests follow the wall's area in the brick, not its volume. Each test costs a footprint (about a
+/// thousand instructions in 3D). The 2D walk tested the TBV rings crossing the bricks outside a room's
+/// walls voxel by voxel: two thirds of the 2D room's walk (rgvc_bench_classes' room2d), whose frames now
+/// take 10 % fewer instructions (README, "Scene classes").
 template <int D, class Image, class OnVisible>
 static bool clearHiddenVoxels(Image& image, const IVec<D>& brick, double slack, std::uint64_t* held, std::uint64_t& tests,
                               OnVisible&& onVisible) {
