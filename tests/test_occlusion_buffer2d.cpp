@@ -148,6 +148,29 @@ TEST_CASE("buffer2d: fixed occluders and occludees", "[buffer2d]") {
         CHECK_FALSE(buffer.hidden(Box<2>{{60.2, 42}, {60.8, 58}}, 0)); // too close to the near face for 2 levels
         CHECK(buffer.stats().hidden == 2);
     }
+    SECTION("a draw behind a nearer occluder skips the bins covered at its end") {
+        // The near wall covers the rays from 0 to 45 degrees, the far wall those from -45 to 26.6: the bins
+        // at the far wall's upper end are covered nearer than its nearest point (20 away), and its draw skips
+        // them (drawRuns' trimmed ends), so every covered bin is counted once.
+        REQUIRE(buffer.begin(view, 128));
+        buffer.draw(Box<2>{{60, 50}, {61, 60}}, 0); // near
+        const std::uint64_t nearBins = buffer.stats().binsCovered;
+        std::vector<double> nearDepth;
+        for (int b = 0; b < buffer.bins(); ++b) nearDepth.push_back(buffer.depthAt(b));
+        buffer.draw(Box<2>{{70, 30}, {71, 60}}, 0); // far
+        std::uint64_t finite = 0;
+        for (int b = 0; b < buffer.bins(); ++b) {
+            finite += std::isfinite(buffer.depthAt(b));
+            if (std::isfinite(nearDepth[std::size_t(b)])) CHECK(buffer.depthAt(b) == nearDepth[std::size_t(b)]);
+        }
+        CHECK(nearBins > 40);
+        CHECK(finite > nearBins + 40);
+        CHECK(buffer.stats().binsCovered == finite);
+        CHECK(buffer.stats().occludersDrawn == 2);
+        CHECK(buffer.hidden(Ball<2>{{80, 55}, 1}, 0));       // behind both
+        CHECK(buffer.hidden(Ball<2>{{80, 40}, 1}, 0));       // behind the far wall only
+        CHECK_FALSE(buffer.hidden(Ball<2>{{65, 40}, 1}, 0)); // in front of the far wall, beside the near one
+    }
     SECTION("a polygon occluder, and one seen from inside") {
         REQUIRE(buffer.begin(view, 128));
         buffer.draw(ConvexPolygon{{{60, 40}, {62, 50}, {60, 60}}}, 0);
