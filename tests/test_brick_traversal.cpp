@@ -593,6 +593,60 @@ TEST_CASE("brick traversal: a TBV that ends in a wall is not revealed, and balls
     }
 }
 
+namespace {
+
+/// The camera walks into a large static ball (its voxels opaque) up to a small, slow mover inside it,
+/// which is hidden there (inside the ball) and held by its TBV. The mover holds the camera at the end, so
+/// it is visible then (the contract), although the camera is inside the large ball too. The walks leave
+/// T's opaque voxels out of their lookups (leaveOpaqueTbvVoxels), and the TBV is revealed only by the
+/// camera's own voxel, a boundary voxel of the TBV in the frame the camera crosses it, which O fills
+/// here: left out, the mover was missed (fuzz_culler2d's finding). The camera looks away from the mover
+/// all the way, through a narrow view, so no other voxel of the TBV is in view.
+template <int D> void cameraWalksIntoAHiddenMover(bool narrow) {
+    const GridGeometry<D> grid(Vec<D>(0.0), 1.0, IVec<D>(32));
+    const Vec<D> centre(16.25);
+    Vec<D> moverAt = centre;
+    moverAt[0] += 3.0;
+    std::vector<ObjectDesc<D>> objects = {{.id = 1, .shape = Ball<D>{centre, 7.0}, .isStatic = true},
+                                          {.id = 2, .shape = Ball<D>{moverAt, 0.3}, .isStatic = false, .maxSpeed = 0.01}};
+    CullerOptions options;
+    options.tbvMaxGrowth = 2;
+    options.adaptiveImage = false; // the 3D walk knows O's voxels from its image's fused boxes: every frame
+    Culler<D> culler(grid, options);
+    for (const ObjectDesc<D>& o : objects) culler.addObject(o);
+    auto query = [&](ObjectId id) -> Shape<D> { return objects[std::size_t(id - 1)].shape; };
+    Vec<D> back(0.0);
+    back[0] = -1.0; // away from the mover, which lies ahead along +x
+    const double fov = narrow ? 1.0 : 60.0;
+    Vec<D> at = centre;
+    at[0] = 1.5; // outside the large ball
+    std::size_t misses = 0, hiddenBefore = 0;
+    for (int f = 0; f < 80; ++f) {
+        const CullResult& r = culler.cull(makeCamera(at, back, fov), query);
+        hiddenBefore += f < 20 && r.stats.hiddenObjects == 1;
+        const std::vector<bool> vis = culler_test::referenceVisible<D>(reference::shapesOf(objects), makeCamera(at, back, fov));
+        for (std::size_t i = 0; i < objects.size(); ++i)
+            if (vis[i] && !contains(r.pvs, objects[i].id)) {
+                ++misses;
+                FAIL_CHECK(D << "D, frame " << f << ": missed visible object " << objects[i].id);
+            }
+        if (at[0] < moverAt[0]) at[0] = std::min(moverAt[0], at[0] + 0.45); // at most a voxel a frame
+    }
+    INFO(D << "D, fov " << fov);
+    CHECK(hiddenBefore > 0); // the mover was held by its TBV before the camera came
+    CHECK(misses == 0);
+    CHECK(contains(culler.lastResult().pvs, ObjectId{2})); // it holds the camera
+}
+
+} // namespace
+
+TEST_CASE("brick traversal: a camera walking inside an occluder into a hidden mover reveals it", "[culler3d][culler2d][brick][tbv]") {
+    for (const bool narrow : {true, false}) {
+        cameraWalksIntoAHiddenMover<2>(narrow);
+        cameraWalksIntoAHiddenMover<3>(narrow);
+    }
+}
+
 TEST_CASE("brick pyramid: marks and clears propagate exactly", "[grid][brick]") {
     std::mt19937_64 rng(3);
     for (const IVec3 res : {IVec3{8, 8, 8}, IVec3{9, 17, 33}, IVec3{100, 60, 100}}) {
