@@ -120,7 +120,7 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewFrustum& view
     st.imageSkipped = skipImage;
     vs.imageActive = !skipImage && options.occlusion && image.begin(view, rows);
     st.tbvLookupsSkipped = tbvs.liveRegions() == 0;
-    const bool leaveOpaque = options.occlusion && leaveOpaqueTbvVoxels<3>(view.apex(), grid, *vs.storage);
+    const bool leaveOpaque = options.occlusion && leaveOpaqueTbvVoxels<3>(view.apex(), view.slack(), grid, *vs.storage);
     const BrickTraversalStats3D ts = vs.brickTraversal.run(
         grid, *vs.storage, view, vs.imageActive ? &image : nullptr, vs.stamp,
         [&](const IVec3& brick) { return tbvs.mayHoldBrick(brick); },

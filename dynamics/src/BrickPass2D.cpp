@@ -35,7 +35,7 @@ void Culler<D>::Impl::traverseBricks(ViewScratch<S>& vs, const ViewWedge& view, 
     OcclusionBuffer2D& image = vs.traversalImage;
     vs.imageActive = options.occlusion && image.begin(view, bins);
     st.tbvLookupsSkipped = tbvs.liveRegions() == 0;
-    const bool leaveOpaque = options.occlusion && leaveOpaqueTbvVoxels<2>(view.apex(), grid, *vs.storage); // (the 3D walk's)
+    const bool leaveOpaque = options.occlusion && leaveOpaqueTbvVoxels<2>(view.apex(), view.slack(), grid, *vs.storage); // (the 3D walk's)
     const BrickTraversalStats2D ts = vs.brickTraversal.run(
         grid, *vs.storage, view, vs.imageActive ? &image : nullptr, vs.stamp,
         [&](const IVec2& brick) { return tbvs.mayHoldTile(brick); },

@@ -7,10 +7,9 @@
 #include "rgvc/grid/GridGeometry.hpp"
 #include "rgvc/grid/Math.hpp"
 #include "rgvc/grid/Shapes.hpp"
+#include "rgvc/grid/ConservativeRaster.hpp"
 
-#include <algorithm>
 #include <bit>
-#include <cmath>
 #include <cstdint>
 
 namespace rgvc {
@@ -43,26 +42,26 @@ namespace rgvc {
 /// the camera entered a voxel a frame at most (updateScene checks larger steps), is revealed in the frame
 /// the camera's voxel is one of the TBV's boundary voxels, which must then be kept even when O fills it.
 /// So no voxel is left out in a frame whose camera point lies in an opaque voxel (any voxel whose closed
-/// box holds it). fuzz_culler2d found the miss: a tiny circle at the camera, hidden by its TBV, the camera
-/// inside a large circle whose voxels are opaque.
+/// box holds it, or holds it within `slack`, the camera's rounding: ViewFrustum / ViewWedge::slack).
+/// fuzz_culler2d found the miss: a tiny circle at the camera, hidden by its TBV, the camera inside a large
+/// circle whose voxels are opaque.
 template <int D, class Storage>
-bool leaveOpaqueTbvVoxels(const Vec<D>& apex, const GridGeometry<D>& grid, const Storage& storage) {
+bool leaveOpaqueTbvVoxels(const Vec<D>& apex, double slack, const GridGeometry<D>& grid, const Storage& storage) {
     const IVec<D> res = grid.resolution();
     for (int a = 0; a < D; ++a)
         if (!(apex[a] >= 1.0 && apex[a] <= double(res[a]) - 1.0)) return false;
-    // The voxels whose closed box holds the apex: floor(apex), and on an axis where the apex lies on a
-    // voxel face also the voxel below (1 <= apex <= res - 1, so both are in the grid).
+    // The voxels whose closed box meets the apex grown by the slack (the rasterizer's touched range of a
+    // point: ConservativeRaster.hpp), at most two per axis.
     IVec<D> lo, hi;
-    for (int a = 0; a < D; ++a) {
-        hi[a] = std::min(int(std::floor(apex[a])), res[a] - 1);
-        lo[a] = double(hi[a]) == apex[a] ? hi[a] - 1 : hi[a];
-    }
-    for (int k = 0; k < (1 << D); ++k) {
-        IVec<D> v;
-        for (int a = 0; a < D; ++a) v[a] = (k >> a) & 1 ? hi[a] : lo[a];
+    for (int a = 0; a < D; ++a) raster_detail::touchedRange(apex[a], apex[a], res[a], lo[a], hi[a], slack);
+    IVec<D> v = lo;
+    while (true) {
         if (storage.opaque(grid.linearIndex(v))) return false;
+        int a = 0;
+        while (a < D && v[a] == hi[a]) v[a] = lo[a], ++a;
+        if (a == D) return true;
+        ++v[a];
     }
-    return true;
 }
 
 /// Clears from `held` (a brick's voxels as slice words: bit x + 8 y of slice z; in 2D one word, bit
