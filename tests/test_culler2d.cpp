@@ -519,7 +519,7 @@ TEST_CASE("culler2d: closed rooms hide everything outside from every camera insi
     //     rings are squares, so an elongated room costs the square on its longer side.)
     //   - bricks: the voxels visited lie in bricks that meet the room's outer box (a brick beyond the
     //     walls is hidden behind them as a whole): at most the area of that box rounded out to whole
-    //     8x8 bricks.
+    //     8x8 bricks, and one brick more.
     for (const bool hierarchical : {false, true}) {
     INFO("hierarchical " << hierarchical);
     const int scenes = sanitizedShare(600), frames = 4; // 300 under ASan: a minute there (kSanitized)
@@ -581,7 +581,9 @@ TEST_CASE("culler2d: closed rooms hide everything outside from every camera insi
             for (std::size_t i = 0; i < s.objects.size(); ++i)
                 if (s.outside[i] && contains(r.pvs, s.objects[i].id)) reported.push_back(s.objects[i].id);
             const IVec2 brickLo = IVec2(glm::floor(s.room.lo / 8.0)) * 8, brickHi = IVec2(glm::ceil(s.room.hi / 8.0)) * 8;
-            const std::uint64_t brickBudget = std::uint64_t(brickHi.x - brickLo.x) * std::uint64_t(brickHi.y - brickLo.y);
+            // (+ one brick: a brick beyond a wall in the wall's own chess layer of bricks may be read before
+            // the wall's object is drawn; 2 voxels of one frame in 2,400 since TBVs reach past the grid.)
+            const std::uint64_t brickBudget = std::uint64_t(brickHi.x - brickLo.x) * std::uint64_t(brickHi.y - brickLo.y) + 64;
             const bool early = hierarchical || (r.stats.earlyTermination && r.stats.fallback == Fallback::None);
             const bool withinRings = hierarchical || r.stats.layers <= std::uint32_t(R) + 1;
             const bool withinBudget = hierarchical ? r.stats.voxelsVisited <= brickBudget

@@ -244,6 +244,59 @@ TEST_CASE("buffer2d: fixed occluders and occludees", "[buffer2d]") {
     }
 }
 
+TEST_CASE("buffer2d: a frozen image answers every test as before, wide ones a block at a time", "[buffer2d]") {
+    // freeze() keeps each block's largest depth; a test over many bins reads whole blocks by it. Random
+    // walls and circles drawn, then random boxes and balls from tiny to wider than the view tested before
+    // and after the freeze: the same answers (seeds 1..200; 40 shapes each).
+    int hiddenWide = 0, tested = 0;
+    for (std::uint64_t seed = 1; seed <= 200; ++seed) {
+        std::mt19937_64 rng(seed);
+        const double fov = sd::pick(rng, std::vector<double>{45, 90, 170, 270, 360});
+        const Vec2 dir{std::cos(sd::uniform(rng, 0, 6.283)), std::sin(sd::uniform(rng, 0, 6.283))};
+        const ViewWedge view(makeCamera({64, 64}, dir, fov), kUnitGrid);
+        OcclusionBuffer2D buffer;
+        REQUIRE(buffer.begin(view, sd::pick(rng, std::vector<int>{100, 786, 3142, 4096})));
+        for (int k = sd::uniformInt(rng, 2, 12); k > 0; --k) { // walls around the camera, some circles
+            const Vec2 c{sd::uniform(rng, 30, 98), sd::uniform(rng, 30, 98)};
+            if (lengthSquared<2>(c - Vec2{64, 64}) < 16) continue;
+            if (sd::chance(rng, 0.7)) buffer.draw(Box<2>{c - Vec2{sd::uniform(rng, 0.5, 20), 0.5}, c + Vec2{sd::uniform(rng, 0.5, 20), 0.5}}, 0);
+            else buffer.draw(Ball<2>{c, sd::uniform(rng, 0.5, 6)}, 0);
+        }
+        std::vector<Shape<2>> shapes;
+        for (int k = 0; k < 40; ++k) {
+            const Vec2 c{sd::uniform(rng, -40, 168), sd::uniform(rng, -40, 168)};
+            const double h = sd::logUniform(rng, 0.1, 120);
+            if (sd::chance(rng, 0.5)) shapes.push_back(Box<2>{c - h, c + Vec2{h, sd::uniform(rng, 0.1, 1) * h}});
+            else shapes.push_back(Ball<2>{c, h});
+        }
+        std::vector<char> before;
+        for (const Shape<2>& s : shapes) before.push_back(buffer.hidden(s, 0.01));
+        buffer.freeze();
+        for (std::size_t k = 0; k < shapes.size(); ++k) {
+            INFO("seed " << seed << ", shape " << k);
+            const bool after = buffer.hidden(shapes[k], 0.01);
+            CHECK(after == bool(before[k]));
+            hiddenWide += after && boundsOf<2>(shapes[k]).max.x - boundsOf<2>(shapes[k]).min.x > 40;
+            ++tested;
+        }
+    }
+    std::printf("[buffer2d] freeze: %d tests the same before and after, %d of them wide boxes or balls hidden\n", tested, hiddenWide);
+    CHECK(hiddenWide > 20); // wide shapes hidden, whose tests read whole blocks
+    // A draw ends the freeze: a wall with a gap, frozen, then the gap closed; a wide box behind is hidden
+    // only if the blocks over the gap are not read as they were frozen.
+    const ViewWedge view(makeCamera({50, 10}, {0, 1}, 90), kUnitGrid);
+    OcclusionBuffer2D buffer;
+    REQUIRE(buffer.begin(view, 786));
+    buffer.draw(Box<2>{{0, 30}, {48, 31}}, 0);
+    buffer.draw(Box<2>{{52, 30}, {100, 31}}, 0);
+    const Box<2> behind{{10, 60}, {90, 70}};
+    CHECK_FALSE(buffer.hidden(behind, 0));
+    buffer.freeze();
+    CHECK_FALSE(buffer.hidden(behind, 0));
+    buffer.draw(Box<2>{{47, 29}, {53, 30.5}}, 0);
+    CHECK(buffer.hidden(behind, 0));
+}
+
 TEST_CASE("buffer2d: the full circle and the +-pi seam", "[buffer2d]") {
     // The full circle's bins start behind the camera (at -direction); with direction (1, 0) that is also
     // where atan2 jumps from pi to -pi. A wall behind the camera straddles both.

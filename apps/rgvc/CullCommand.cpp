@@ -244,6 +244,7 @@ ojson statsJson(const CullStats& s) {
     j["bricks_visited"] = s.bricksVisited;
     j["image_hidden"] = s.imageHidden;
     j["tbv_image_tests"] = s.tbvImageTests;
+    j["face_tbv_tests"] = s.faceTbvTests;
     j["image_skipped"] = s.imageSkipped;
     j["placement_queries"] = s.placementQueries;
     j["tracked_objects"] = s.trackedObjects;

@@ -276,6 +276,7 @@ void Culler<D>::Impl::finishWalk(ViewScratch<S>& vs, const typename Traits::View
                                  std::uint64_t nodes, std::uint64_t empty, std::uint64_t hiddenNodes, std::uint64_t bricks,
                                  std::uint64_t fused) {
     for (std::size_t i = 0; i < outside.size(); ++i) classify(vs, outside[i], view);
+    revealFaceTbvs(vs, view, st); // (their objects join revealedPending in cull())
     for (std::size_t i = 0; i < vs.revealedPending.size(); ++i) classify(vs, vs.revealedPending[i], view);
     vs.revealedPending.clear();
     st.layers = 0;

@@ -212,6 +212,7 @@ template <int D> void Culler<D>::addObject(const ObjectDesc<D>& object) {
         m.main.pvsStamp.push_back(0);
         m.statePos.push_back(kNone);
         m.outsidePos.push_back(kNone);
+        m.faceTbvs.addSlot();
         m.main.classifiedStamp.push_back(0);
         m.main.drawnStamp.push_back(0);
         m.footprints.emplace_back();

@@ -31,6 +31,7 @@
 #include "rgvc/grid/VoxelStorage.hpp"
 
 #include "CullerTraits.hpp"
+#include "FaceTbvs.hpp"
 #include "SlotSet.hpp"
 #include "ViewStorage.hpp"
 
@@ -142,6 +143,7 @@ template <int D> struct Culler<D>::Impl {
         std::uint8_t fruitless = 0;
         std::uint8_t growthLevel = 0;   // its TBVs grow by tbvMaxGrowth / 2^growthLevel (see updateScene)
         std::uint8_t cleanRenewals = 0; // validities lived out unrevealed since growthLevel last changed
+        std::uint8_t tbvFaces = 0;      // the grid faces its TBV reaches past (faceTbvs; bit f: face f)
         TbvRegion<D> tbv;
         std::uint64_t tbvExpiry = 0;    // first frame the TBV no longer covers
         std::uint32_t tbvGeneration = 0;
@@ -159,6 +161,13 @@ template <int D> struct Culler<D>::Impl {
     std::vector<std::uint32_t> statePos;    // per slot: position in tracked, hidden or parked
     std::vector<std::uint32_t> outsidePos;  // per slot: position in outside
     SlotSet tracked, hidden, parked, outside;
+    // Hidden objects whose TBV reaches past a face of the grid, unless the application promised that
+    // objects stay in it (CullerOptions::objectsStayInGrid): each view tests those parts (revealFaceTbvs).
+    FaceTbvs<D> faceTbvs;
+    // Per face: cull()'s last test found the part of the world beyond it in view (revealFaceTbvs). New TBVs
+    // then stay inside it as before (buildTbv): each one reaching past it would cost a test every frame. An
+    // open face without TBVs past it is tested again every kFaceReprobeFrames frames (TbvPolicy.cpp).
+    std::array<bool, 2 * D> faceOpen{};
     // Expiry buckets: TBVs expiring at frame f wait in expiring[f % size] (a validity is at most
     // tbvMaxFrames, so a bucket never holds two different frames). Entries of TBVs revealed or
     // renewed meanwhile are recognised by their generation and dropped.
@@ -238,6 +247,7 @@ template <int D> struct Culler<D>::Impl {
         std::vector<std::array<std::uint64_t, 8>> brickTbvParts;
         std::vector<std::uint8_t> brickTbvTaken;
         std::vector<ObjectSlot> met; // kShared: hidden objects whose TBV this view met, in the order met
+        std::vector<ObjectSlot> faceMet; // revealFaceTbvs: the TBVs whose part beyond the grid it found visible
         const typename Traits::View* view = nullptr; // while the pass runs
         std::exception_ptr failure;  // kShared: what the pass threw (bad_alloc), rethrown after all views
         // Orthographic 3D views with occlusion (OrthoPass.cpp): the parallel-ray image, the objects met,
@@ -357,6 +367,9 @@ template <int D> struct Culler<D>::Impl {
     /// cameras: the voxels of the frame's perspective cameras that are in the grid.
     void updateScene(bool cameraIn, std::span<const IVec<D>> cameras, CullStats& st);
     void revealDuringTraversal(ObjectSlot slot, CullStats& st);
+    /// After a perspective view's traversal, with its image complete (or none): every TBV part beyond a
+    /// face of the grid (faceTbvs) that touches the view and that the image does not hide is met (tbvMet).
+    template <class S> void revealFaceTbvs(ViewScratch<S>& vs, const typename Traits::View& view, CullStats& st);
 
     // ---- the hierarchical traversal (BrickPass.cpp) -------------------------------------------------
 

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace rgvc {
 
@@ -135,6 +136,7 @@ template <int D> void Culler<D>::Impl::detach(ObjectSlot slot) {
     if (r.state == State::Hidden) {
         writes += tbvs.erase(slot, r.tbv, options.tbvDiscretization);
         ++r.tbvGeneration; // its expiry entry, if any, is now stale
+        if (r.tbvFaces != 0) faceTbvs.erase(slot, std::exchange(r.tbvFaces, std::uint8_t(0)));
     }
     if (SlotSet* set = setOf(r.state)) set->erase(slot, statePos);
     r.state = State::Detached;
@@ -166,6 +168,9 @@ void Culler<D>::Impl::attachHidden(ObjectSlot slot, const Placement& p, const Tb
         if (inGrid) storage.bricks().markOccupied(lo, hi);
     }
     expiring[expiry % expiring.size()].emplace_back(slot, r.tbvGeneration);
+    // Without the promise that objects stay in the grid, a TBV reaching past its bounds is also tested by
+    // every view beyond them (FaceTbvs.hpp).
+    if (!options.objectsStayInGrid) r.tbvFaces = faceTbvs.insert(slot, Box<D>{region.centre - region.radius, region.centre + region.radius}, grid.resolution());
     enter(slot, State::Hidden);
 }
 

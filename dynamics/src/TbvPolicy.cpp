@@ -5,29 +5,38 @@
 // traversal meets its TBV (reveal, revealDuringTraversal).
 #include "CullerImpl.hpp"
 
+#include "TbvVoxelTests.hpp"
+#include "rgvc/grid/BrickRows.hpp"
 #include "rgvc/grid/ConservativeRaster.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace rgvc {
 
 /// Builds the TBV of an object placed at p now: a disc (2D) or cube (3D) around its bounding ball,
-/// grown by maxSpeed per frame of validity. The validity is the longest that keeps the region inside
-/// the grid (so the object stays in it; not needed under objectsStayInGrid) and, for boundary TBVs,
-/// clear of every camera's voxel (§4.1; several with cullViews),
-/// capped by tbvMaxFrames and tbvMaxGrowth. False if not even one frame fits.
+/// grown by maxSpeed per frame of validity. The validity is the longest that keeps the region, for
+/// boundary TBVs, clear of every camera's voxel (§4.1; several with cullViews), capped by tbvMaxFrames
+/// and tbvMaxGrowth. False if not even one frame fits, or if the object already reaches outside the grid.
+/// The region may reach past the grid's bounds: T clips it there, and without the promise that objects
+/// stay in the grid (CullerOptions::objectsStayInGrid) its parts beyond are tested by every view
+/// (revealFaceTbvs). (Before, such a region had to fit inside the grid: objects near the bounds were
+/// renewed every few frames or placed every frame; the 100k room's update took 6.3 ms a frame, 2.3 now.)
 template <int D>
 bool Culler<D>::Impl::buildTbv(const Record& r, const Placement& p, bool cameraKnown, std::span<const IVec<D>> cameras,
                                TbvRegion<D>& region, std::uint64_t& expiry) const {
     if (p.outsideGrid) return false;
     const Ball<D> b = boundingBall<D>(p.local);
     double room = INFINITY;
-    // Without the application's promise the object could leave the grid, where T cannot see it: the
-    // region must fit inside. With it, T clips the region at the bounds (CullerOptions::objectsStayInGrid).
+    // Past a face whose beyond was in view when last tested, a TBV would be tested there every frame (and,
+    // in view, revealed): it stays inside that face, as every TBV did before (faceOpen). A choice of cost
+    // only: a TBV past any face is sound (revealFaceTbvs).
     if (!options.objectsStayInGrid)
-        for (int a = 0; a < D; ++a)
-            room = std::min(room, std::min(b.center[a], double(grid.resolution()[a]) - b.center[a]));
+        for (int a = 0; a < D; ++a) {
+            if (faceOpen[std::size_t(2 * a)]) room = std::min(room, b.center[a]);
+            if (faceOpen[std::size_t(2 * a + 1)]) room = std::min(room, double(grid.resolution()[a]) - b.center[a]);
+        }
     // Strictly clear of the camera voxel: tbvTouches() must say no, with its slack and some rounding.
     if (cameraKnown && tbvBoundaryOnly(options.tbvDiscretization))
         for (const IVec<D>& camera : cameras) room = std::min(room, tbvGap(b.center, camera) - 4 * kConservativeSlack);
@@ -260,6 +269,195 @@ template <int D> void Culler<D>::Impl::revealDuringTraversal(ObjectSlot slot, Cu
     if (seen) addToPvs(main, slot);
 }
 
+/// revealFaceTbvs: tiles per lateral axis of a face's slab that is not hidden as a whole, when the face
+/// has more than kFaceTilesFrom TBVs.
+constexpr int kFaceTiles = 4;
+constexpr std::size_t kFaceTilesFrom = 16;
+/// revealFaceTbvs: frames between the tests of a face without TBVs past it that was open at its last
+/// test (faceOpen, CullerImpl.hpp): whether it has closed since.
+constexpr std::uint64_t kFaceReprobeFrames = 16;
+
+/// Why the parts beyond the faces suffice (FaceTbvs.hpp). Let x be a visible point of a hidden object and c
+/// the camera, in the grid and outside the TBV's region R (its box B; T stores the in-grid voxels of its
+/// boundary). The open segment from c to x meets no occluder's interior, and it enters B at a point y before
+/// x (c is not in B). If y lies in the closed grid, its voxel is a voxel of T, visible, and the traversal
+/// reveals the TBV there (TbvRegion.hpp). Otherwise y lies strictly beyond some faces of the grid (so B
+/// reaches past them, and faceTbvs holds it there); let f be the first of them in the order below. Then y
+/// lies in f's part of B, the points of B beyond f and within the grid's bounds on the sides that come
+/// before f (a box), and in f's slab (the same for the grid's side, grown laterally by the reach of the
+/// faces that come after). y is in the view (a point of a view ray, as x is), and no ray through y's pixel
+/// can have entered an occluder before y (the segment to y is part of the segment to x): the view's touch
+/// test holds for both boxes, and the image cannot hide either (an image hides a box only if every pixel of
+/// it is covered nearer than the box's nearest point, and y's pixel is not covered nearer than y). So the
+/// slab's test fails, the part's test fails, and the TBV is met. A slab with many TBVs is tested in tiles
+/// first, and a part only where it meets a visible tile: y's tile is one of them, visible for the same
+/// reason. Both boxes are grown by the camera's slack, as objects are (classify). Without an image (the
+/// per-voxel traversals, a frame of CullerOptions::adaptiveImage without it, no occlusion) the view's test
+/// alone decides, which reveals more, never less. A face whose layer of voxels is all opaque needs no test
+/// for what lies within its bounds (below, where it is checked).
+/// The order: any order is sound. In 3D the faces of the axis nearest the camera's up come last, so that
+/// the floor's part holds only what lies under the grid's floor (the 3D city's movers on their ground slab:
+/// every TBV reaches past the floor, whose slab, with the sides' margins, was visible past the streets'
+/// ends).
+template <int D>
+template <class S>
+void Culler<D>::Impl::revealFaceTbvs(ViewScratch<S>& vs, const typename Traits::View& view, CullStats& st) {
+    if (options.objectsStayInGrid) return;
+    std::vector<ObjectSlot>& met = vs.faceMet;
+    met.clear();
+    const IVec<D> res = grid.resolution();
+    const double slack = view.slack();
+    auto* image = vs.imageActive ? &vs.traversalImage : nullptr;
+    // 2D: the walk's angular image is final (its objects revealed here are classified after): the tests
+    // read it a block of bins at a time (a face's slab spans most of the view), once one is needed.
+    bool frozen = false;
+    auto visible = [&](const Box<D>& box) {
+        const Vec<D> lo = box.min - slack, hi = box.max + slack;
+        if (!view.touchesBox(lo, hi)) return false;
+        if (image == nullptr) return true;
+        if constexpr (D == 2)
+            if (!std::exchange(frozen, true)) image->freeze();
+        return !image->hidden(Shape<D>(Box<D>{lo, hi}), 0.0);
+    };
+    int order[D];
+    for (int a = 0; a < D; ++a) order[a] = a;
+    if constexpr (D == 3) {
+        const Vec3 up = glm::abs(view.trueUp());
+        const int last = up.x >= up.y && up.x >= up.z ? 0 : up.y >= up.z ? 1 : 2;
+        std::rotate(order + last, order + last + 1, order + D);
+    }
+    // A face whose layer of voxels is all opaque hides what lies beyond it within its bounds: the segment
+    // from the camera (a voxel or more inside the grid, in no opaque voxel: leaveOpaqueTbvVoxels) to such a
+    // point crosses the face's plane within its bounds, in the closed box of an opaque voxel, which lies in
+    // an object's interior (O holds the voxels inside an object by its conversion slack); a point on the plane
+    // itself lies in that interior. A ground under the whole grid is such a layer (the 3D city, the game
+    // world): its TBVs' parts, all within the floor's bounds, need no test. Read a row of 8 voxels a word at
+    // a time (BrickRows.hpp), at the first open voxel it stops.
+    const bool cameraClear = leaveOpaqueTbvVoxels<D>(view.apex(), slack, grid, storage);
+    auto layerOpaque = [&](int f) {
+        const int a = f >> 1;
+        IVec<D> v(0);
+        v[a] = (f & 1) ? res[a] - 1 : 0;
+        // The layer's rows along x (axis 0): all of each when a != 0, one voxel of each when a == 0.
+        while (true) {
+            const std::uint32_t row = std::uint32_t(grid.linearIndex(v) / VoxelKey(res[0]));
+            if (a == 0 ? !storage.opaque(grid.linearIndex(v)) : !brick_rows::allOpaque(storage, row, 0, res[0] - 1)) return false;
+            int b = 1;
+            while (b < D && (b == a || v[b] == res[b] - 1)) {
+                if (b != a) v[b] = 0;
+                ++b;
+            }
+            if (b == D) return true;
+            ++v[b];
+        }
+    };
+    auto laterallyWithin = [&](const Box<D>& box, int a) {
+        for (int c = 0; c < D; ++c)
+            if (c != a && !(box.min[c] >= 0 && box.max[c] <= double(res[c]))) return false;
+        return true;
+    };
+    // within[b]: the sides of axis b that come before the face at hand (bit 0 low, bit 1 high).
+    int within[D] = {};
+    for (int k = 0; k < 2 * D; ++k) {
+        const int a = order[k >> 1], f = 2 * a + (k & 1);
+        const typename FaceTbvs<D>::Face& face = faceTbvs.face(f);
+        // A face without TBVs past it is tested only to learn whether an open one has closed (cull() only).
+        bool probe = !face.slots.empty();
+        if constexpr (!ViewScratch<S>::kShared)
+            probe = probe || (faceOpen[std::size_t(f)] && frameIndex % kFaceReprobeFrames == 0);
+        if (probe) {
+            // A box beyond face f, clipped to the sides that come before it; false when nothing is left.
+            auto clip = [&](Box<D>& b) {
+                if (f & 1) b.min[a] = std::max(b.min[a], double(res[a]));
+                else b.max[a] = std::min(b.max[a], 0.0);
+                for (int c = 0; c < D; ++c) {
+                    if (within[c] & 1) b.min[c] = std::max(b.min[c], 0.0);
+                    if (within[c] & 2) b.max[c] = std::min(b.max[c], double(res[c]));
+                }
+                for (int c = 0; c < D; ++c)
+                    if (!(b.min[c] <= b.max[c])) return false;
+                return true;
+            };
+            // (At least a voxel deep: a face without TBVs has no reach, and its slab tells what lies beyond.)
+            Box<D> slab;
+            for (int c = 0; c < D; ++c) {
+                slab.min[c] = -std::max(faceTbvs.face(2 * c).reach, 1.0);
+                slab.max[c] = double(res[c]) + std::max(faceTbvs.face(2 * c + 1).reach, 1.0);
+            }
+            const bool opaqueLayer = cameraClear && layerOpaque(f);
+            ++st.faceTbvTests;
+            bool open = clip(slab) && !(opaqueLayer && laterallyWithin(slab, a)) && visible(slab);
+            if (open) {
+                // A visible slab in tiles (kFaceTiles per lateral axis), and the parts tested only where
+                // they meet a visible tile: the 3D city's floor is hidden by its ground but for the streets'
+                // ends, where a pixel shows both (the image's edge is not exact), and its 200 TBVs' parts
+                // cost a fifth of the frame when each was tested.
+                int lateral[D > 1 ? D - 1 : 1], nl = 0;
+                for (int c = 0; c < D; ++c)
+                    if (c != a) lateral[nl++] = c;
+                bool tileSeen[kFaceTiles * kFaceTiles] = {};
+                double step[D], invStep[D];
+                for (int c = 0; c < D; ++c) {
+                    step[c] = (slab.max[c] - slab.min[c]) / kFaceTiles;
+                    invStep[c] = step[c] > 0 ? 1 / step[c] : 0.0;
+                }
+                // (A face with few TBVs tests their parts at once: one tile, all of it visible.)
+                const bool tiled = face.slots.size() > kFaceTilesFrom;
+                const int tiles = !tiled ? 0 : D == 2 ? kFaceTiles : kFaceTiles * kFaceTiles;
+                for (int t = 0; t < tiles; ++t) {
+                    Box<D> tile = slab;
+                    for (int l = 0, u = t; l < nl; ++l, u /= kFaceTiles) {
+                        const int c = lateral[l];
+                        tile.min[c] = slab.min[c] + step[c] * (u % kFaceTiles);
+                        tile.max[c] = (u % kFaceTiles) == kFaceTiles - 1 ? slab.max[c] : slab.min[c] + step[c] * (u % kFaceTiles + 1);
+                    }
+                    ++st.faceTbvTests;
+                    tileSeen[t] = visible(tile);
+                }
+                // Open when some tile is in view (a slab whose tiles all hide is as good as hidden).
+                if (tiled) open = std::any_of(tileSeen, tileSeen + tiles, [](bool b) { return b; });
+                for (std::size_t i = 0; i < face.slots.size(); ++i) {
+                    Box<D> part = face.boxes[i];
+                    if (!clip(part)) continue; // all of it beyond a face that came before: tested there
+                    if (opaqueLayer && laterallyWithin(part, a)) continue;
+                    // The tiles it meets (its closed box against the closed tiles, so a part on a tile's
+                    // edge meets both; an index off by a rounding takes in a neighbour too): tested only if
+                    // one of them is visible.
+                    if (tiled) {
+                        int t0[D > 1 ? D - 1 : 1], t1[D > 1 ? D - 1 : 1];
+                        for (int l = 0; l < nl; ++l) {
+                            const int c = lateral[l];
+                            // (Clamped in double, then truncated: the part lies in the slab, so the values are
+                            // about 0..kFaceTiles.)
+                            const double u0 = (part.min[c] - slab.min[c]) * invStep[c] - 1e-9, u1 = (part.max[c] - slab.min[c]) * invStep[c] + 1e-9;
+                            t0[l] = int(std::clamp(u0, 0.0, double(kFaceTiles - 1)));
+                            t1[l] = int(std::clamp(u1, 0.0, double(kFaceTiles - 1)));
+                        }
+                        bool any = false;
+                        if constexpr (D == 2) {
+                            for (int u = t0[0]; u <= t1[0] && !any; ++u) any = tileSeen[u];
+                        } else {
+                            for (int v = t0[1]; v <= t1[1] && !any; ++v)
+                                for (int u = t0[0]; u <= t1[0] && !any; ++u) any = tileSeen[v * kFaceTiles + u];
+                        }
+                        if (!any) continue;
+                    }
+                    ++st.faceTbvTests;
+                    if (visible(part)) met.push_back(face.slots[i]);
+                }
+            }
+            if constexpr (!ViewScratch<S>::kShared) faceOpen[std::size_t(f)] = open;
+        }
+        within[a] |= 1 << (k & 1);
+    }
+    if (met.empty()) return;
+    // (A TBV reaching past two faces may be met twice; met, it is no longer hidden.)
+    std::sort(met.begin(), met.end());
+    met.erase(std::unique(met.begin(), met.end()), met.end());
+    for (const ObjectSlot slot : met)
+        if (records[slot].state == State::Hidden) tbvMet(vs, slot, st);
+}
+
 template bool Culler<2>::Impl::buildTbv(const Record&, const Placement&, bool, std::span<const IVec<2>>,
                                         TbvRegion<2>&, std::uint64_t&) const;
 template bool Culler<2>::Impl::brokePromise(const Placement&) const;
@@ -274,5 +472,9 @@ template double Culler<3>::Impl::stepOf(const Record&) const;
 template bool Culler<3>::Impl::reveal(ObjectSlot, CullStats&);
 template void Culler<3>::Impl::updateScene(bool, std::span<const IVec<3>>, CullStats&);
 template void Culler<3>::Impl::revealDuringTraversal(ObjectSlot, CullStats&);
+template void Culler<2>::Impl::revealFaceTbvs(Culler<2>::Impl::MainScratch&, const ViewWedge&, CullStats&);
+template void Culler<2>::Impl::revealFaceTbvs(Culler<2>::Impl::SharedScratch&, const ViewWedge&, CullStats&);
+template void Culler<3>::Impl::revealFaceTbvs(Culler<3>::Impl::MainScratch&, const ViewFrustum&, CullStats&);
+template void Culler<3>::Impl::revealFaceTbvs(Culler<3>::Impl::SharedScratch&, const ViewFrustum&, CullStats&);
 
 } // namespace rgvc

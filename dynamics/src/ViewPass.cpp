@@ -60,6 +60,9 @@ void Culler<D>::Impl::cullView(ViewScratch<S>& vs, const typename Traits::View& 
         });
         if constexpr (!shared)
             if (D == 3 && options.adaptiveCaps && options.occlusion) scheduleCaps(st);
+        // TBVs reaching past the grid, by the view region only (no image here); a revealed object reaching
+        // outside the grid joins `outside`, which is tested next.
+        revealFaceTbvs(vs, view, st);
         // Objects reaching outside the grid may be seen through the part the grid does not hold: they are
         // tested against the view region only.
         for (std::size_t i = 0; i < outside.size(); ++i) {

@@ -55,6 +55,7 @@ double angleFrom(const Vec2& r, const Vec2& v) { return fastAtan2(cross2(r, v), 
 bool OcclusionBuffer2D::begin(const ViewWedge& view, int bins) {
     m_stats = {};
     m_active = false;
+    m_frozen = false;
     const double fov = view.fov();
     if (bins < 1 || !(fov >= kMinFov) || !allFinite<2>(view.apex()) || !allFinite<2>(view.direction())) return false;
     m_apex = view.apex();
@@ -119,12 +120,35 @@ template <class F> bool OcclusionBuffer2D::forEachRun(double x0, double x1, F&& 
     return true;
 }
 
+void OcclusionBuffer2D::freeze() {
+    if (!m_active) return;
+    const std::size_t blocks = (std::size_t(m_bins) + kBlockBins - 1) / kBlockBins;
+    m_blockMax.resize(blocks);
+    for (std::size_t b = 0; b < blocks; ++b) {
+        const std::size_t i0 = b * kBlockBins, i1 = std::min(i0 + kBlockBins, std::size_t(m_bins));
+        double m = m_depth[i0];
+        for (std::size_t i = i0 + 1; i < i1; ++i) m = std::max(m, m_depth[i]);
+        m_blockMax[b] = m;
+    }
+    m_frozen = true;
+}
+
 bool OcclusionBuffer2D::coveredNearer(double x0, double x1, double nearest) const {
     return forEachRun(x0, x1, [&](int i0, int i1) {
         // Four bins a step, one branch per four: an extent spans tens of bins (0.002 rad each at the
         // walk's resolution), and perf put most of this loop's samples on a bin-by-bin exit branch.
         const double* d = m_depth.data();
         int i = i0;
+        // Frozen (freeze()): the whole blocks inside the run by their maxima (every bin of a block is
+        // below `nearest` exactly when its maximum is), the bins before and after them one by one.
+        if (m_frozen && i1 - i0 >= 2 * kBlockBins) {
+            const int b0 = (i0 + kBlockBins - 1) / kBlockBins, b1 = (i1 + 1) / kBlockBins; // whole blocks [b0, b1)
+            for (; i < b0 * kBlockBins; ++i)
+                if (!(d[i] < nearest)) return false;
+            for (int b = b0; b < b1; ++b)
+                if (!(m_blockMax[std::size_t(b)] < nearest)) return false;
+            i = b1 * kBlockBins;
+        }
         for (; i + 3 <= i1; i += 4)
             if (!((d[i] < nearest) & (d[i + 1] < nearest) & (d[i + 2] < nearest) & (d[i + 3] < nearest))) return false;
         for (; i <= i1; ++i)
@@ -335,6 +359,7 @@ template <class Fill> void OcclusionBuffer2D::drawRuns(double x0, double x1, dou
 
 void OcclusionBuffer2D::draw(const Shape<2>& shape, double shrink) {
     if (!m_active) return;
+    m_frozen = false;
     Box<2> bounds;
     const double pad = kPadUlps * kEps * magnitudeOf(shape, m_apex, bounds);
     const double s = std::max(0.0, shrink) + pad;

@@ -146,8 +146,14 @@ public:
     }
 
     /// Draws the shape shrunk by `shrink` [voxel units, >= 0] as an occluder (nothing when the shrunk shape
-    /// is empty or holds or touches the camera).
+    /// is empty or holds or touches the camera). Ends a freeze().
     void draw(const Shape<2>& shape, double shrink);
+    /// The image is final until the next draw() or begin(): its bins' maxima per block of kBlockBins are
+    /// kept, and a test over many bins reads the blocks (the same answers, a block at once). One pass over
+    /// the bins; for tests of wide shapes after the drawing is done (the culler's tests beyond the grid's
+    /// faces: a face's slab spans most of the view). Not kept while drawing: each draw would pay it.
+    void freeze();
+    static constexpr int kBlockBins = 16;
 
     bool active() const { return m_active; }
     int bins() const { return m_bins; }
@@ -195,6 +201,8 @@ private:
     int m_bins = 0;
     bool m_full = false, m_active = false;
     std::vector<double> m_depth;       // bins
+    std::vector<double> m_blockMax;    // freeze(): per kBlockBins bins, their largest depth
+    bool m_frozen = false;
     std::vector<double> m_rayX, m_rayY; // bins + 1 boundary rays (world axes)
     // cos / sin of the boundary rays' angles from the direction; they depend on H and the bin count only,
     // so they are kept while those stay (a camera walk changes neither).
