@@ -278,23 +278,24 @@ constexpr std::size_t kFaceTilesFrom = 16;
 constexpr std::uint64_t kFaceReprobeFrames = 16;
 
 /// Why the parts beyond the faces suffice (FaceTbvs.hpp). Let x be a visible point of a hidden object and c
-/// the camera, in the grid and outside the TBV's region R (its box B; T stores the in-grid voxels of its
-/// boundary). The open segment from c to x meets no occluder's interior, and it enters B at a point y before
-/// x (c is not in B). If y lies in the closed grid, its voxel is a voxel of T, visible, and the traversal
-/// reveals the TBV there (TbvRegion.hpp). Otherwise y lies strictly beyond some faces of the grid (so B
-/// reaches past them, and faceTbvs holds it there); let f be the first of them in the order below. Then y
-/// lies in f's part of B, the points of B beyond f and within the grid's bounds on the sides that come
-/// before f (a box), and in f's slab (the same for the grid's side, grown laterally by the reach of the
-/// faces that come after). y is in the view (a point of a view ray, as x is), and no ray through y's pixel
-/// can have entered an occluder before y (the segment to y is part of the segment to x): the view's touch
-/// test holds for both boxes, and the image cannot hide either (an image hides a box only if every pixel of
-/// it is covered nearer than the box's nearest point, and y's pixel is not covered nearer than y). So the
-/// slab's test fails, the part's test fails, and the TBV is met. A slab with many TBVs is tested in tiles
-/// first, and a part only where it meets a visible tile: y's tile is one of them, visible for the same
-/// reason. Both boxes are grown by the camera's slack, as objects are (classify). Without an image (the
-/// per-voxel traversals, a frame of CullerOptions::adaptiveImage without it, no occlusion) the view's test
-/// alone decides, which reveals more, never less. A face whose layer of voxels is all opaque needs no test
-/// for what lies within its bounds (below, where it is checked).
+/// the camera, in the grid and outside the TBV's region R (a disc or cube, in its bounding box B; T stores
+/// the in-grid voxels of its boundary). The open segment from c to x meets no occluder's interior, and it
+/// enters R at a point y before x (c is not in R). If y lies in the closed grid, so does the segment up to y
+/// (the grid is convex), and the traversal reveals the TBV where that segment crosses the boundary T stores,
+/// as for an object in the grid (TbvRegion.hpp). Otherwise y lies strictly beyond some faces of the grid (so
+/// B reaches past them, and faceTbvs holds it there); let f be the first of them in the order below. Then y
+/// lies in f's part of B, the points of B beyond f and within the grid's bounds on the sides that come before
+/// f (a box), and in f's slab (the same for the grid's side, grown laterally by the reach of the faces that
+/// come after). y is in the view (a point of a view ray, as x is), and no ray through y's pixel can have
+/// entered an occluder before y (the segment to y is part of the segment to x): the view's touch test holds
+/// for both boxes, and the image cannot hide either (an image hides a box only if every pixel of it is
+/// covered nearer than the box's nearest point, and y's pixel is not covered nearer than y). So the slab's
+/// test fails, the part's test fails, and the TBV is met. A slab with many TBVs is tested in tiles first, and
+/// a part only where it meets a visible tile: y's tile is one of them, visible for the same reason. Both
+/// boxes are grown by the camera's slack, as objects are (classify). Without an image (the per-voxel
+/// traversals, a frame of CullerOptions::adaptiveImage without it, no occlusion) the view's test alone
+/// decides, which reveals more, never less. A face whose layer of voxels is all opaque needs no test for what
+/// lies within its bounds (below, where it is checked).
 /// The order: any order is sound. In 3D the faces of the axis nearest the camera's up come last, so that
 /// the floor's part holds only what lies under the grid's floor (the 3D city's movers on their ground slab:
 /// every TBV reaches past the floor, whose slab, with the sides' margins, was visible past the streets'
