@@ -507,4 +507,14 @@ template <class Buffer, class ShapeT> std::vector<bool> bufferPass(Buffer& buffe
     return hidden;
 }
 
+/// A random unit vector (rejection sampling in the unit ball; seeded tests' motions and walks).
+template <int D> Vec<D> randomUnit(std::mt19937_64& rng) {
+    for (;;) {
+        Vec<D> v;
+        for (int a = 0; a < D; ++a) v[a] = reference::seeded::uniform(rng, -1, 1);
+        const double l2 = lengthSquared<D>(v);
+        if (l2 > 1e-4 && l2 <= 1) return v / std::sqrt(l2);
+    }
+}
+
 } // namespace rgvc::culler_test
