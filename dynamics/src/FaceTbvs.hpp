@@ -8,12 +8,17 @@
 // object then placed every frame), unless the application promised that its objects stay in the grid
 // (CullerOptions::objectsStayInGrid). Now they reach past the bounds as with the promise, and every view
 // tests the parts beyond the faces against the view and its occlusion image instead
-// (Culler<D>::Impl::revealFaceTbvs, TbvPolicy.cpp, which derives why that reveals what it must): one
-// test per face first (a closed room's walls hide all six at once), then one per part of a face that is
-// not hidden. The boxes are kept here, not read from the objects' records: a record is ~850 bytes, and
-// the 100k room has tens of thousands of such TBVs.
+// (Culler<D>::Impl::revealFaceTbvs, TbvPolicy.cpp, which derives why that reveals what it must):
+//   - one test per face first, of its slab (a closed room's walls hide all six at once);
+//   - none where the face's layer of voxels is all opaque (a ground under the whole grid hides what lies
+//     beneath it);
+//   - a visible slab with more than 16 TBVs tested in 4 x 4 tiles (4 in 2D);
+//   - then one test per part that meets a visible tile.
+// The boxes are kept here, not read from the objects' records: a record is ~850 bytes, and the 100k room
+// has tens of thousands of such TBVs.
 #pragma once
 
+#include "SlotSet.hpp"
 #include "rgvc/grid/Shapes.hpp"
 #include "rgvc/grid/VoxelStorage.hpp"
 
@@ -30,7 +35,7 @@ public:
     static constexpr int kFaces = 2 * D;
 
     struct Face {
-        std::vector<ObjectSlot> slots;
+        SlotSet slots;
         std::vector<Box<D>> boxes;  // [voxel units] parallel to slots: the TBV's box
         double reach = 0;           // [voxel units] at least how far any part reaches past the face
     };
@@ -60,15 +65,10 @@ public:
         for (int f = 0; f < kFaces; ++f) {
             if (!(mask & (1u << f))) continue;
             Face& face = m_faces[std::size_t(f)];
-            std::vector<std::uint32_t>& pos = m_pos[std::size_t(f)];
-            const std::uint32_t i = pos[slot];
-            const ObjectSlot last = face.slots.back();
-            face.slots[i] = last;
-            face.boxes[i] = face.boxes.back();
-            pos[last] = i;
-            face.slots.pop_back();
+            // The boxes follow the slots' swap-remove (SlotSet::erase).
+            const std::uint32_t i = face.slots.erase(slot, m_pos[std::size_t(f)]);
+            if (i + 1 < face.boxes.size()) face.boxes[i] = face.boxes.back();
             face.boxes.pop_back();
-            pos[slot] = kNone;
             if (face.slots.empty()) face.reach = 0;
         }
     }
@@ -77,9 +77,8 @@ public:
 private:
     void add(int f, ObjectSlot slot, const Box<D>& box, double reach) {
         Face& face = m_faces[std::size_t(f)];
-        m_pos[std::size_t(f)][slot] = std::uint32_t(face.slots.size());
-        face.slots.push_back(slot); // amortised: a face never holds more slots than the scene has objects
-        face.boxes.push_back(box);
+        face.slots.insert(slot, m_pos[std::size_t(f)]);
+        face.boxes.push_back(box); // amortised, as the slots: never more boxes than the scene has objects
         face.reach = std::max(face.reach, reach);
     }
 

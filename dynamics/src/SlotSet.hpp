@@ -12,19 +12,24 @@ namespace rgvc {
 
 class SlotSet {
 public:
-    /// pos: the member's position, stored by its owner; kNone when not a member.
-    void insert(ObjectSlot s, std::vector<std::uint32_t>& pos) {
-        pos[s] = std::uint32_t(m_slots.size());
+    /// pos: the member's position, stored by its owner; kNone when not a member. Returns the new member's
+    /// index (the last), so that an owner can keep data parallel to the members (FaceTbvs.hpp).
+    std::uint32_t insert(ObjectSlot s, std::vector<std::uint32_t>& pos) {
+        const auto i = std::uint32_t(m_slots.size());
+        pos[s] = i;
         m_slots.push_back(s); // amortised: the set never holds more slots than the scene has objects
+        return i;
     }
-    /// Erase swaps the last member into the hole: a loop erasing slots()[i] re-reads index i next.
-    void erase(ObjectSlot s, std::vector<std::uint32_t>& pos) {
+    /// Erase swaps the last member into the hole: a loop erasing slots()[i] re-reads index i next. Returns
+    /// the hole's index, which now holds the former last member (or is past the end when s was last).
+    std::uint32_t erase(ObjectSlot s, std::vector<std::uint32_t>& pos) {
         const std::uint32_t i = pos[s];
         const ObjectSlot last = m_slots.back();
         m_slots[i] = last;
         pos[last] = i;
         m_slots.pop_back();
         pos[s] = kNone;
+        return i;
     }
     static bool contains(ObjectSlot s, const std::vector<std::uint32_t>& pos) { return pos[s] != kNone; }
 

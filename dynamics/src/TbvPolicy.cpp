@@ -269,6 +269,8 @@ template <int D> void Culler<D>::Impl::revealDuringTraversal(ObjectSlot slot, Cu
     if (seen) addToPvs(main, slot);
 }
 
+namespace {
+
 /// revealFaceTbvs: tiles per lateral axis of a face's slab that is not hidden as a whole, when the face
 /// has more than kFaceTilesFrom TBVs.
 constexpr int kFaceTiles = 4;
@@ -276,6 +278,114 @@ constexpr std::size_t kFaceTilesFrom = 16;
 /// revealFaceTbvs: frames between the tests of a face without TBVs past it that was open at its last
 /// test (faceOpen, CullerImpl.hpp): whether it has closed since.
 constexpr std::uint64_t kFaceReprobeFrames = 16;
+
+/// Clips a box [voxel units] to the part beyond face f (axis f / 2) and within the grid's sides that come
+/// before f (within[c]: bit 0 the low side of axis c, bit 1 the high). False when nothing is left.
+template <int D> bool clipBeyondFace(Box<D>& b, int f, const int (&within)[D], const IVec<D>& res) {
+    const int a = f >> 1;
+    if (f & 1) b.min[a] = std::max(b.min[a], double(res[a]));
+    else b.max[a] = std::min(b.max[a], 0.0);
+    for (int c = 0; c < D; ++c) {
+        if (within[c] & 1) b.min[c] = std::max(b.min[c], 0.0);
+        if (within[c] & 2) b.max[c] = std::min(b.max[c], double(res[c]));
+    }
+    for (int c = 0; c < D; ++c)
+        if (!(b.min[c] <= b.max[c])) return false;
+    return true;
+}
+
+/// Whether a box [voxel units] lies within the grid's bounds on every axis but a.
+template <int D> bool laterallyWithin(const Box<D>& box, int a, const IVec<D>& res) {
+    for (int c = 0; c < D; ++c)
+        if (c != a && !(box.min[c] >= 0 && box.max[c] <= double(res[c]))) return false;
+    return true;
+}
+
+/// Whether face f's layer of voxels is all opaque. Reads the layer's rows along x (axis 0) a word of 8
+/// voxels at a time (BrickRows.hpp): all of each row when f's axis is not x, one voxel of each when it is;
+/// stops at the first open voxel.
+template <int D> bool faceLayerOpaque(int f, const GridGeometry<D>& grid, const DenseStorage<D>& storage) {
+    const int a = f >> 1;
+    const IVec<D> res = grid.resolution();
+    IVec<D> v(0);
+    v[a] = (f & 1) ? res[a] - 1 : 0;
+    while (true) {
+        const std::uint32_t row = std::uint32_t(grid.linearIndex(v) / VoxelKey(res[0]));
+        if (a == 0 ? !storage.opaque(grid.linearIndex(v)) : !brick_rows::allOpaque(storage, row, 0, res[0] - 1)) return false;
+        int b = 1;
+        while (b < D && (b == a || v[b] == res[b] - 1)) {
+            if (b != a) v[b] = 0;
+            ++b;
+        }
+        if (b == D) return true;
+        ++v[b];
+    }
+}
+
+/// A visible slab of face f cut into kFaceTiles tiles per lateral axis, each tested once; a part is then
+/// tested only where it meets a visible tile. The 3D city's floor is hidden by its ground but for the
+/// streets' ends, where a pixel shows both (the image's edge is not exact), and its 200 TBVs' parts cost a
+/// fifth of the frame when each was tested. A face with few TBVs (kFaceTilesFrom) is not cut: one tile,
+/// all of it visible.
+template <int D> class FaceTiles {
+public:
+    template <class Visible>
+    FaceTiles(const Box<D>& slab, int a, bool tiled, Visible&& visible, CullStats& st)
+        : m_slab(slab), m_count(!tiled ? 0 : D == 2 ? kFaceTiles : kFaceTiles * kFaceTiles) {
+        for (int c = 0; c < D; ++c)
+            if (c != a) m_lateral[m_nl++] = c;
+        double step[D];
+        for (int c = 0; c < D; ++c) {
+            step[c] = (slab.max[c] - slab.min[c]) / kFaceTiles;
+            m_invStep[c] = step[c] > 0 ? 1 / step[c] : 0.0;
+        }
+        for (int t = 0; t < m_count; ++t) {
+            Box<D> tile = slab;
+            for (int l = 0, u = t; l < m_nl; ++l, u /= kFaceTiles) {
+                const int c = m_lateral[l], i = u % kFaceTiles;
+                tile.min[c] = slab.min[c] + step[c] * i;
+                tile.max[c] = i == kFaceTiles - 1 ? slab.max[c] : slab.min[c] + step[c] * (i + 1);
+            }
+            ++st.faceTbvTests;
+            m_seen[t] = visible(tile);
+        }
+    }
+    /// Open when some tile is in view: a slab whose tiles all hide is as good as hidden.
+    bool anySeen() const { return m_count == 0 || std::any_of(m_seen, m_seen + m_count, [](bool b) { return b; }); }
+    /// Whether a part (in the slab) meets a visible tile: its closed box against the closed tiles, so a
+    /// part on a tile's edge meets both, and an index off by a rounding takes in a neighbour too.
+    bool meetsSeen(const Box<D>& part) const {
+        if (m_count == 0) return true;
+        int t0[kNl], t1[kNl];
+        for (int l = 0; l < m_nl; ++l) {
+            const int c = m_lateral[l];
+            // (Clamped in double, then truncated: the part lies in the slab, so the values are about
+            // 0..kFaceTiles.)
+            const double u0 = (part.min[c] - m_slab.min[c]) * m_invStep[c] - 1e-9;
+            const double u1 = (part.max[c] - m_slab.min[c]) * m_invStep[c] + 1e-9;
+            t0[l] = int(std::clamp(u0, 0.0, double(kFaceTiles - 1)));
+            t1[l] = int(std::clamp(u1, 0.0, double(kFaceTiles - 1)));
+        }
+        if constexpr (D == 2) {
+            for (int u = t0[0]; u <= t1[0]; ++u)
+                if (m_seen[u]) return true;
+        } else {
+            for (int v = t0[1]; v <= t1[1]; ++v)
+                for (int u = t0[0]; u <= t1[0]; ++u)
+                    if (m_seen[v * kFaceTiles + u]) return true;
+        }
+        return false;
+    }
+
+private:
+    static constexpr int kNl = D > 1 ? D - 1 : 1;
+    Box<D> m_slab;
+    int m_lateral[kNl] = {}, m_nl = 0, m_count;
+    double m_invStep[D] = {};
+    bool m_seen[kFaceTiles * kFaceTiles] = {};
+};
+
+} // namespace
 
 /// Why the parts beyond the faces suffice (FaceTbvs.hpp). Let x be a visible point of a hidden object and c
 /// the camera, in the grid and outside the TBV's region R (a disc or cube, in its bounding box B; T stores
@@ -332,31 +442,8 @@ void Culler<D>::Impl::revealFaceTbvs(ViewScratch<S>& vs, const typename Traits::
     // point crosses the face's plane within its bounds, in the closed box of an opaque voxel, which lies in
     // an object's interior (O holds the voxels inside an object by its conversion slack); a point on the plane
     // itself lies in that interior. A ground under the whole grid is such a layer (the 3D city, the game
-    // world): its TBVs' parts, all within the floor's bounds, need no test. Read a row of 8 voxels a word at
-    // a time (BrickRows.hpp), at the first open voxel it stops.
+    // world): its TBVs' parts, all within the floor's bounds, need no test.
     const bool cameraClear = leaveOpaqueTbvVoxels<D>(view.apex(), slack, grid, storage);
-    auto layerOpaque = [&](int f) {
-        const int a = f >> 1;
-        IVec<D> v(0);
-        v[a] = (f & 1) ? res[a] - 1 : 0;
-        // The layer's rows along x (axis 0): all of each when a != 0, one voxel of each when a == 0.
-        while (true) {
-            const std::uint32_t row = std::uint32_t(grid.linearIndex(v) / VoxelKey(res[0]));
-            if (a == 0 ? !storage.opaque(grid.linearIndex(v)) : !brick_rows::allOpaque(storage, row, 0, res[0] - 1)) return false;
-            int b = 1;
-            while (b < D && (b == a || v[b] == res[b] - 1)) {
-                if (b != a) v[b] = 0;
-                ++b;
-            }
-            if (b == D) return true;
-            ++v[b];
-        }
-    };
-    auto laterallyWithin = [&](const Box<D>& box, int a) {
-        for (int c = 0; c < D; ++c)
-            if (c != a && !(box.min[c] >= 0 && box.max[c] <= double(res[c]))) return false;
-        return true;
-    };
     // within[b]: the sides of axis b that come before the face at hand (bit 0 low, bit 1 high).
     int within[D] = {};
     for (int k = 0; k < 2 * D; ++k) {
@@ -367,82 +454,25 @@ void Culler<D>::Impl::revealFaceTbvs(ViewScratch<S>& vs, const typename Traits::
         if constexpr (!ViewScratch<S>::kShared)
             probe = probe || (faceOpen[std::size_t(f)] && frameIndex % kFaceReprobeFrames == 0);
         if (probe) {
-            // A box beyond face f, clipped to the sides that come before it; false when nothing is left.
-            auto clip = [&](Box<D>& b) {
-                if (f & 1) b.min[a] = std::max(b.min[a], double(res[a]));
-                else b.max[a] = std::min(b.max[a], 0.0);
-                for (int c = 0; c < D; ++c) {
-                    if (within[c] & 1) b.min[c] = std::max(b.min[c], 0.0);
-                    if (within[c] & 2) b.max[c] = std::min(b.max[c], double(res[c]));
-                }
-                for (int c = 0; c < D; ++c)
-                    if (!(b.min[c] <= b.max[c])) return false;
-                return true;
-            };
-            // (At least a voxel deep: a face without TBVs has no reach, and its slab tells what lies beyond.)
+            // The slab (at least a voxel deep: a face without TBVs has no reach, and its slab tells what
+            // lies beyond).
             Box<D> slab;
             for (int c = 0; c < D; ++c) {
                 slab.min[c] = -std::max(faceTbvs.face(2 * c).reach, 1.0);
                 slab.max[c] = double(res[c]) + std::max(faceTbvs.face(2 * c + 1).reach, 1.0);
             }
-            const bool opaqueLayer = cameraClear && layerOpaque(f);
+            const bool opaqueLayer = cameraClear && faceLayerOpaque<D>(f, grid, storage);
             ++st.faceTbvTests;
-            bool open = clip(slab) && !(opaqueLayer && laterallyWithin(slab, a)) && visible(slab);
+            bool open = clipBeyondFace<D>(slab, f, within, res) && !(opaqueLayer && laterallyWithin<D>(slab, a, res)) &&
+                        visible(slab);
             if (open) {
-                // A visible slab in tiles (kFaceTiles per lateral axis), and the parts tested only where
-                // they meet a visible tile: the 3D city's floor is hidden by its ground but for the streets'
-                // ends, where a pixel shows both (the image's edge is not exact), and its 200 TBVs' parts
-                // cost a fifth of the frame when each was tested.
-                int lateral[D > 1 ? D - 1 : 1], nl = 0;
-                for (int c = 0; c < D; ++c)
-                    if (c != a) lateral[nl++] = c;
-                bool tileSeen[kFaceTiles * kFaceTiles] = {};
-                double step[D], invStep[D];
-                for (int c = 0; c < D; ++c) {
-                    step[c] = (slab.max[c] - slab.min[c]) / kFaceTiles;
-                    invStep[c] = step[c] > 0 ? 1 / step[c] : 0.0;
-                }
-                // (A face with few TBVs tests their parts at once: one tile, all of it visible.)
-                const bool tiled = face.slots.size() > kFaceTilesFrom;
-                const int tiles = !tiled ? 0 : D == 2 ? kFaceTiles : kFaceTiles * kFaceTiles;
-                for (int t = 0; t < tiles; ++t) {
-                    Box<D> tile = slab;
-                    for (int l = 0, u = t; l < nl; ++l, u /= kFaceTiles) {
-                        const int c = lateral[l];
-                        tile.min[c] = slab.min[c] + step[c] * (u % kFaceTiles);
-                        tile.max[c] = (u % kFaceTiles) == kFaceTiles - 1 ? slab.max[c] : slab.min[c] + step[c] * (u % kFaceTiles + 1);
-                    }
-                    ++st.faceTbvTests;
-                    tileSeen[t] = visible(tile);
-                }
-                // Open when some tile is in view (a slab whose tiles all hide is as good as hidden).
-                if (tiled) open = std::any_of(tileSeen, tileSeen + tiles, [](bool b) { return b; });
+                const FaceTiles<D> tiles(slab, a, face.slots.size() > kFaceTilesFrom, visible, st);
+                open = tiles.anySeen();
                 for (std::size_t i = 0; i < face.slots.size(); ++i) {
                     Box<D> part = face.boxes[i];
-                    if (!clip(part)) continue; // all of it beyond a face that came before: tested there
-                    if (opaqueLayer && laterallyWithin(part, a)) continue;
-                    // The tiles it meets (its closed box against the closed tiles, so a part on a tile's
-                    // edge meets both; an index off by a rounding takes in a neighbour too): tested only if
-                    // one of them is visible.
-                    if (tiled) {
-                        int t0[D > 1 ? D - 1 : 1], t1[D > 1 ? D - 1 : 1];
-                        for (int l = 0; l < nl; ++l) {
-                            const int c = lateral[l];
-                            // (Clamped in double, then truncated: the part lies in the slab, so the values are
-                            // about 0..kFaceTiles.)
-                            const double u0 = (part.min[c] - slab.min[c]) * invStep[c] - 1e-9, u1 = (part.max[c] - slab.min[c]) * invStep[c] + 1e-9;
-                            t0[l] = int(std::clamp(u0, 0.0, double(kFaceTiles - 1)));
-                            t1[l] = int(std::clamp(u1, 0.0, double(kFaceTiles - 1)));
-                        }
-                        bool any = false;
-                        if constexpr (D == 2) {
-                            for (int u = t0[0]; u <= t1[0] && !any; ++u) any = tileSeen[u];
-                        } else {
-                            for (int v = t0[1]; v <= t1[1] && !any; ++v)
-                                for (int u = t0[0]; u <= t1[0] && !any; ++u) any = tileSeen[v * kFaceTiles + u];
-                        }
-                        if (!any) continue;
-                    }
+                    if (!clipBeyondFace<D>(part, f, within, res)) continue; // all of it beyond an earlier face
+                    if (opaqueLayer && laterallyWithin<D>(part, a, res)) continue;
+                    if (!tiles.meetsSeen(part)) continue;
                     ++st.faceTbvTests;
                     if (visible(part)) met.push_back(face.slots[i]);
                 }
