@@ -99,7 +99,7 @@ struct ImageSeamBox3D {
 };
 
 /// Scratch of the per-pixel maximum of a dot product over a pixel's rays (PixelMaxDot in
-/// OcclusionTests3D.cpp). (Internal to the buffer; public so its implementation files can share it.)
+/// OcclusionExact3D.cpp). (Internal to the buffer; public so its implementation files can share it.)
 struct ImageMaxDotScratch {
     std::vector<int> colRow;
     std::vector<double> colVal, rowA, rowB, out;
@@ -251,7 +251,7 @@ private:
     /// The columns of pixel row j the footprint can touch, from the first to the last pixel not covered
     /// nearer than `nearest`; false when none is left (the row passes every per-pixel test). The
     /// rectangle's row is trimmed first, so a covered row costs no span. (Inline, defined in
-    /// OcclusionTests3D.cpp, the one file that calls it: out of line it cost the 3D city 0.6 %.)
+    /// OcclusionRowSpans3D.hpp, for the two files that call it: out of line it cost the 3D city 0.6 %.)
     inline bool openRowSpan(const Footprint& f, int j, double nearest, int& i0, int& i1) const;
     /// Occludee tests (OcclusionBuffer3D.cpp): the smallest z of a point in view at distance >= nearest;
     /// every pixel of a footprint covered nearer than `nearest`; whether the pixel of point p (apex-relative)
@@ -267,10 +267,10 @@ private:
     /// As canHide; `pixel` gets the index of p's pixel when it has one (else it is left as it was).
     inline bool canHide(const Vec3& p, std::size_t& pixel) const;
     /// The exact per-pixel test of a sphere (apex-relative centre, grown radius) wholly in front of the
-    /// camera: every pixel showing part of it covered nearer than that part (OcclusionTests3D.cpp).
+    /// camera: every pixel showing part of it covered nearer than that part (OcclusionExact3D.cpp).
     bool hiddenBall(const Vec3& c, double radius, double nearest);
     /// The exact per-pixel test of a box (apex-relative, grown) over its footprint f: every pixel that
-    /// shows part of it covered nearer than that part (OcclusionTests3D.cpp).
+    /// shows part of it covered nearer than that part (OcclusionExact3D.cpp).
     bool hiddenBoxExact(const Vec3& lo, const Vec3& hi, double nearest, const Footprint& f);
     ImageMaxDotScratch m_maxDot[3]; // hiddenBall, hiddenBoxExact: one per vector tested at once
     /// centre, radius: the sphere whose bounding cube lo..hi is (parts missing it are skipped), or null.
