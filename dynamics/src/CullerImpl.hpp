@@ -317,6 +317,9 @@ template <int D> struct Culler<D>::Impl {
     void adopt(ObjectSlot slot, const Placement& p);
     void attachTracked(ObjectSlot slot, const Placement& p);
     void attachHidden(ObjectSlot slot, const Placement& p, const TbvRegion<D>& region, std::uint64_t expiry);
+    void placeTbv(ObjectSlot slot, const Placement& p, const TbvRegion<D>& region, std::uint64_t expiry);
+    void dropTbv(ObjectSlot slot);
+    void leaveState(ObjectSlot slot);
     const Placement* fetch(ObjectSlot slot, CullStats& st);
     /// Asks the processor to bring a record into the cache (a hint: no effect on results). Loops over
     /// slots in no order (the renewals, the tracked objects, the buffer pass) call it kRecordsAhead ahead:

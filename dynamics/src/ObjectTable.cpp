@@ -133,11 +133,13 @@ template <int D> void Culler<D>::Impl::enter(ObjectSlot slot, State s) {
 template <int D> void Culler<D>::Impl::detach(ObjectSlot slot) {
     Record& r = records[slot];
     if (r.state == State::Tracked || r.state == State::Static) rasterize(slot, -1);
-    if (r.state == State::Hidden) {
-        writes += tbvs.erase(slot, r.tbv, options.tbvDiscretization);
-        ++r.tbvGeneration; // its expiry entry, if any, is now stale
-        if (r.tbvFaces != 0) faceTbvs.erase(slot, std::exchange(r.tbvFaces, std::uint8_t(0)));
-    }
+    if (r.state == State::Hidden) dropTbv(slot);
+    leaveState(slot);
+}
+
+/// Takes an object out of its state's set (its T, O and I parts already taken out): Detached.
+template <int D> void Culler<D>::Impl::leaveState(ObjectSlot slot) {
+    Record& r = records[slot];
     if (SlotSet* set = setOf(r.state)) set->erase(slot, statePos);
     r.state = State::Detached;
     syncOutside(slot);
@@ -153,8 +155,24 @@ template <int D> void Culler<D>::Impl::attachTracked(ObjectSlot slot, const Plac
     enter(slot, State::Tracked);
 }
 
+/// Takes a hidden object's TBV out of T (and the faces' lists); its state and sets stay as they are.
+template <int D> void Culler<D>::Impl::dropTbv(ObjectSlot slot) {
+    Record& r = records[slot];
+    writes += tbvs.erase(slot, r.tbv, options.tbvDiscretization);
+    ++r.tbvGeneration; // its expiry entry, if any, is now stale
+    if (r.tbvFaces != 0) faceTbvs.erase(slot, std::exchange(r.tbvFaces, std::uint8_t(0)));
+}
+
 template <int D>
 void Culler<D>::Impl::attachHidden(ObjectSlot slot, const Placement& p, const TbvRegion<D>& region, std::uint64_t expiry) {
+    placeTbv(slot, p, region, expiry);
+    enter(slot, State::Hidden);
+}
+
+/// Adopts the placement and writes the new TBV into T, the brick tree's marks, the expiry buckets and the
+/// faces' lists; the caller sets the state (attachHidden), or keeps it (a renewal: updateScene).
+template <int D>
+void Culler<D>::Impl::placeTbv(ObjectSlot slot, const Placement& p, const TbvRegion<D>& region, std::uint64_t expiry) {
     Record& r = records[slot];
     adopt(slot, p);
     r.tbv = region;
@@ -171,7 +189,6 @@ void Culler<D>::Impl::attachHidden(ObjectSlot slot, const Placement& p, const Tb
     // Without the promise that objects stay in the grid, a TBV reaching past its bounds is also tested by
     // every view beyond them (FaceTbvs.hpp).
     if (!options.objectsStayInGrid) r.tbvFaces = faceTbvs.insert(slot, Box<D>{region.centre - region.radius, region.centre + region.radius}, grid.resolution());
-    enter(slot, State::Hidden);
 }
 
 /// The object's placement now, asking the application at most once per frame: the stored placement
@@ -220,6 +237,9 @@ template void Culler<2>::Impl::detach(ObjectSlot);
 template void Culler<2>::Impl::adopt(ObjectSlot, const Placement&);
 template void Culler<2>::Impl::attachTracked(ObjectSlot, const Placement&);
 template void Culler<2>::Impl::attachHidden(ObjectSlot, const Placement&, const TbvRegion<2>&, std::uint64_t);
+template void Culler<2>::Impl::placeTbv(ObjectSlot, const Placement&, const TbvRegion<2>&, std::uint64_t);
+template void Culler<2>::Impl::dropTbv(ObjectSlot);
+template void Culler<2>::Impl::leaveState(ObjectSlot);
 template auto Culler<2>::Impl::fetch(ObjectSlot, CullStats&) -> const Placement*;
 template auto Culler<3>::Impl::makePlacement(const Shape<3>&, double, ObjectRole) const -> Placement;
 template void Culler<3>::Impl::makePlacementInto(Placement&, const Shape<3>&, double, ObjectRole) const;
@@ -234,6 +254,9 @@ template void Culler<3>::Impl::detach(ObjectSlot);
 template void Culler<3>::Impl::adopt(ObjectSlot, const Placement&);
 template void Culler<3>::Impl::attachTracked(ObjectSlot, const Placement&);
 template void Culler<3>::Impl::attachHidden(ObjectSlot, const Placement&, const TbvRegion<3>&, std::uint64_t);
+template void Culler<3>::Impl::placeTbv(ObjectSlot, const Placement&, const TbvRegion<3>&, std::uint64_t);
+template void Culler<3>::Impl::dropTbv(ObjectSlot);
+template void Culler<3>::Impl::leaveState(ObjectSlot);
 template auto Culler<3>::Impl::fetch(ObjectSlot, CullStats&) -> const Placement*;
 
 } // namespace rgvc

@@ -198,9 +198,12 @@ template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, std::span<cons
             if (!r.alive || r.state != State::Hidden || r.tbvGeneration != generation || r.tbvExpiry != frameIndex)
                 continue;
             const TbvRegion<D> old = r.tbv;
-            detach(slot);
+            // Its TBV out of T, but the object still in `hidden`: a renewal keeps it there (no set's
+            // swap-remove and insert, each a write to another object's slot).
+            dropTbv(slot);
             const Placement* p = fetch(slot, st);
             if (p == nullptr) {
+                leaveState(slot);
                 enter(slot, State::Parked);
                 continue;
             }
@@ -216,10 +219,11 @@ template <int D> void Culler<D>::Impl::updateScene(bool cameraIn, std::span<cons
                 r.cleanRenewals = 0;
             }
             if (buildTbv(r, *p, !cameras.empty(), cameras, region, expiry)) {
-                attachHidden(slot, *p, region, expiry);
+                placeTbv(slot, *p, region, expiry);
                 r.fruitless = 0; // it stayed hidden for a whole validity
                 ++st.tbvsRenewed;
             } else {
+                leaveState(slot);
                 attachTracked(slot, *p);
                 ++st.tbvsRefused;
             }
