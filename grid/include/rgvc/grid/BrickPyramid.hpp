@@ -86,15 +86,26 @@ public:
         }
     }
     /// Every brick meeting the voxel box [lo, hi] (inclusive, clipped by the caller to the grid).
+    /// The bricks' flags are read along each row from one index, and only an unmarked brick takes the
+    /// climb: every TBV made or renewed marks its box (the 100k room's 7,800 renewals a frame), and
+    /// nearly all of its bricks are marked already (an index per brick cost the 100k room 2 % of its
+    /// instructions; reading a row's flags as one word saved nothing more).
     void markOccupied(const IVec<D>& lo, const IVec<D>& hi) {
         const IVec<D> b0 = lo >> kBrickShift, b1 = hi >> kBrickShift;
+        const IVec<D>& dims = m_dims[0];
+        auto row = [&](IVec<D> b) { // bricks b0.x..b1.x of b's row
+            const std::size_t first = index(dims, b);
+            for (std::int32_t x = b0.x; x <= b1.x; ++x)
+                if (m_flags[first + std::size_t(x - b0.x)] == 0) {
+                    b.x = x;
+                    markOccupied(b);
+                }
+        };
         if constexpr (D == 2) {
-            for (std::int32_t y = b0.y; y <= b1.y; ++y)
-                for (std::int32_t x = b0.x; x <= b1.x; ++x) markOccupied(IVec<D>{x, y});
+            for (std::int32_t y = b0.y; y <= b1.y; ++y) row(IVec<D>{b0.x, y});
         } else {
             for (std::int32_t z = b0.z; z <= b1.z; ++z)
-                for (std::int32_t y = b0.y; y <= b1.y; ++y)
-                    for (std::int32_t x = b0.x; x <= b1.x; ++x) markOccupied(IVec<D>{x, y, z});
+                for (std::int32_t y = b0.y; y <= b1.y; ++y) row(IVec<D>{b0.x, y, z});
         }
     }
     /// A traversal read brick b and found nothing in it.
