@@ -97,7 +97,7 @@ const char* const kCullUsage =
     "hidden_objects, tbvs_created, tbvs_renewed, tbvs_revealed, tbvs_refused, tbvs_held, camera_jump,\n"
     "speed_violations, grid_writes, tbv_lookups_skipped, caps_deferred, caps_from_shell, buffer_tested,\n"
     "buffer_hidden, buffer_ms, nodes_visited, nodes_empty, nodes_hidden, bricks_visited,\n"
-    "image_hidden, image_skipped;\n"
+    "image_hidden, image_skipped, tbv_image_tests, face_tbv_tests;\n"
     "frame 0 adds setup_ms.\n"
     "\n"
     "Exit status: 0 success; 2 bad input (one line \"FILE: FIELD: PROBLEM\" on stderr) or bad usage\n"

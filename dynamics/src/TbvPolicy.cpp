@@ -22,7 +22,7 @@ namespace rgvc {
 /// The region may reach past the grid's bounds: T clips it there, and without the promise that objects
 /// stay in the grid (CullerOptions::objectsStayInGrid) its parts beyond are tested by every view
 /// (revealFaceTbvs). (Before, such a region had to fit inside the grid: objects near the bounds were
-/// renewed every few frames or placed every frame; the 100k room's update took 6.3 ms a frame, 2.3 now.)
+/// renewed every few frames or placed every frame; README, "Scene classes", has what that cost.)
 template <int D>
 bool Culler<D>::Impl::buildTbv(const Record& r, const Placement& p, bool cameraKnown, std::span<const IVec<D>> cameras,
                                TbvRegion<D>& region, std::uint64_t& expiry) const {

@@ -291,9 +291,8 @@ struct CullerOptions {
     /// may leave the grid while hidden, and each perspective view also tests the parts of TBVs beyond the
     /// grid's faces against the view and its occlusion image (a face at a time first; stats.faceTbvTests).
     /// Past a face whose beyond the last test found in view, new TBVs still stay inside the grid (each
-    /// would cost that test every frame). Before, every TBV had to fit inside the grid: objects near the
-    /// bounds were renewed every few frames or placed every frame (rgvc_bench_classes' 100k room: 2,170
-    /// movers placed and 620 TBVs made a frame; 6.9 ms a frame then, 2.9 ms now).
+    /// would cost that test every frame). (What it cost when every TBV had to fit inside the grid: README,
+    /// "Scene classes".)
     bool objectsStayInGrid = false;
     /// 3D only: [Pixels] [Limit] 0..2048. Rows of the occlusion buffer that refines the grid's PVS
     /// (OcclusionBuffer3D.hpp): the PVS objects, nearest first, are tested against the image of the
